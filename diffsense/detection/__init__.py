@@ -1,0 +1,49 @@
+"""Detection theory: thresholds, exact detection probability for Swerling 0-4, required SNR,
+approximations, losses, CA-CFAR and matched-filter mismatch.
+
+Public contract: :func:`threshold`, :func:`pd`, :func:`required_snr_db` (other tools call them).
+``swerling`` and ``method`` are static arguments; every other argument may be an array and is
+broadcast, and every function is jit/vmap/grad-able.
+"""
+
+from .cfar import cfar_loss_db, cfar_multiplier, cfar_pd
+from .core import pd_given_threshold
+from .losses import fluctuation_loss_db, integration_gain_db, integration_loss_db
+from .matched_filter import matched_filter_loss_db, optimum_bandwidth_time_product
+from .probability import db_to_linear, linear_to_db, pd, pd_coherent
+from .required_snr import (
+    BOOK_SDLA_EXTRA_PULSES,
+    albersheim_snr_db,
+    book_integration_gain_db,
+    book_pulses_for_integration_gain,
+    required_snr_db,
+    shnidman_snr_db,
+)
+from .threshold import false_alarm_time_s, pfa_from_false_alarm_time, pfa_from_threshold, threshold, voltage_threshold
+
+__all__ = [
+    "threshold",
+    "pfa_from_threshold",
+    "voltage_threshold",
+    "pfa_from_false_alarm_time",
+    "false_alarm_time_s",
+    "pd",
+    "pd_coherent",
+    "pd_given_threshold",
+    "required_snr_db",
+    "albersheim_snr_db",
+    "shnidman_snr_db",
+    "book_integration_gain_db",
+    "book_pulses_for_integration_gain",
+    "BOOK_SDLA_EXTRA_PULSES",
+    "fluctuation_loss_db",
+    "integration_gain_db",
+    "integration_loss_db",
+    "cfar_multiplier",
+    "cfar_pd",
+    "cfar_loss_db",
+    "matched_filter_loss_db",
+    "optimum_bandwidth_time_product",
+    "db_to_linear",
+    "linear_to_db",
+]

@@ -42,7 +42,7 @@ def _mp_cfar_pd_mixture(snr_db, pfa, m, n, swerling, alpha):
     x = 1 / (1 + mpmath.mpf(alpha))
     r = {1: 1, 2: n, 3: 2, 4: 2 * n}.get(swerling)
     total, k, tail = mpmath.mpf(0), 0, mpmath.mpf(1)
-    while tail > mpmath.mpf(10) ** -18:
+    while tail > mpmath.mpf(10) ** -15:
         if swerling == 0:
             pk = mpmath.exp(-mu) * mu**k / mpmath.factorial(k)
         else:
@@ -149,7 +149,8 @@ def test_quadrature_reproduces_swerling2_closed_form(m, n):
     assert float(jnp.max(jnp.abs(quad - exact))) < 1e-11
 
 
-@pytest.mark.parametrize("swerling,m,n,snr_db", [(0, 16, 1, 13.0), (0, 8, 10, 5.0), (1, 16, 10, 8.0), (3, 16, 4, 8.0), (4, 24, 4, 6.0)])
+@pytest.mark.slow
+@pytest.mark.parametrize("swerling,m,n,snr_db", [(0, 16, 1, 13.0), (0, 8, 10, 5.0), (1, 16, 4, 3.0), (3, 16, 4, 8.0), (4, 24, 4, 6.0)])
 def test_pd_quadrature_matches_mpmath_mixture_series(swerling, m, n, snr_db):
     pytest.importorskip("diffsense.detection.core")
     pfa = 1e-6

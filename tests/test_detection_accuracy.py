@@ -36,10 +36,16 @@ def test_threshold_beats_the_gammaincinv_trap():
     assert float(det.threshold(pfa, n)) == pytest.approx(exact, rel=1e-13)
 
 
-GRID = list(itertools.product([0, 1, 2, 3, 4], [1, 3, 10, 100, 1000], [1e-1, 1e-6, 1e-12, 1e-15]))
+FULL_GRID = list(itertools.product([0, 1, 2, 3, 4], [1, 3, 10, 100, 1000], [1e-1, 1e-6, 1e-12, 1e-15]))
+QUICK_GRID = list(itertools.product([0, 1, 2, 3, 4], [1, 10, 300], [1e-6, 1e-15]))
+SLOW_GRID = [g for g in FULL_GRID if g not in QUICK_GRID]
 
 
-@pytest.mark.parametrize("swerling,n,pfa", GRID)
+def _grid_params(quick, slow):
+    return [pytest.param(*g) for g in quick] + [pytest.param(*g, marks=pytest.mark.slow) for g in slow]
+
+
+@pytest.mark.parametrize("swerling,n,pfa", _grid_params(QUICK_GRID, SLOW_GRID))
 def test_pd_matches_mpmath_reference(swerling, n, pfa):
     # SNRs across the transition: required SNR for Pd 0.1, 0.5, 0.9, 0.999 and two far points
     x50 = float(det.required_snr_db(0.5, pfa, n, swerling))
@@ -49,7 +55,10 @@ def test_pd_matches_mpmath_reference(swerling, n, pfa):
     assert np.max(np.abs(got - want)) <= 1e-12
 
 
-@pytest.mark.parametrize("swerling,n,pfa", [g for g in GRID if g[1] <= 100])
+@pytest.mark.parametrize(
+    "swerling,n,pfa",
+    _grid_params([g for g in QUICK_GRID if g[1] <= 10], [g for g in FULL_GRID if g[1] <= 100 and g not in QUICK_GRID]),
+)
 def test_required_snr_matches_mpmath(swerling, n, pfa):
     for p in (0.1, 0.9, 0.999):
         if p <= pfa:

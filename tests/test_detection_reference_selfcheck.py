@@ -136,3 +136,26 @@ def test_reference_json_matches_reference_code():
             assert abs(t / mpf(r["threshold_str"]) - 1) < mpf("1e-25")
     assert data["checks"]["pd_dps50_vs_dps70_max_abs"] < 1e-40
     assert data["checks"]["snr_db_dps50_vs_dps70_max_abs"] < 1e-30
+
+
+def test_reference_json_swerling0_2_match_scipy_float64():
+    # Independent float64 implementations: noncentral chi-square survival
+    # (Pd_sw0 = ncx2.sf(2T; 2N, 2NS)) and Q(N, T/(1+S)) for Swerling 2.
+    if not os.path.exists(DATA):
+        pytest.skip("tests/data/detection_reference.json not generated")
+    from scipy import special, stats
+
+    with open(DATA) as fh:
+        data = json.load(fh)
+    thr = {(t["n"], t["pfa_str"]): t["threshold"] for t in data["thresholds"]}
+    worst = 0.0
+    for p in data["pd_points"]:
+        if p["swerling"] not in (0, 2):
+            continue
+        n, t, s = p["n"], thr[(p["n"], p["pfa_str"])], 10 ** (p["snr_db"] / 10)
+        if p["swerling"] == 0:
+            v = stats.ncx2.sf(2 * t, 2 * n, 2 * n * s)
+        else:
+            v = special.gammaincc(n, t / (1 + s))
+        worst = max(worst, abs(v - p["pd"]))
+    assert worst < 1e-12

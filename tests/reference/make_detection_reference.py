@@ -7,7 +7,7 @@ Options: --workers W (default 2), --quick (tiny grid, for smoke testing),
 Contents (see ``mp_detection`` for every formula):
   thresholds    T with Q(N, T) = Pfa, N in the grid, Pfa down to 1e-300.
   required_snr  mean per-pulse SNR (dB) for Pd in {0.1, 0.5, 0.9, 0.99, 0.999}
-                (pairs with Pd <= Pfa omitted), bracket width <= 1e-15 dB.
+                (pairs with Pd <= Pfa omitted), bracket width <= 1e-25 dB.
   pd_points     Pd at SNRs around each curve's transition: the required SNRs
                 rounded to 0.1 dB, plus 20 and 10 dB below the Pd = 0.1 (or the
                 lowest) point and 3 and 10 dB above the Pd = 0.999 point.
@@ -44,7 +44,7 @@ THRESHOLD_PFAS = PFAS + ["1e-30", "1e-100", "1e-300"]
 ROOT_CHECK_PFAS = {"1e-6", "1e-15"}
 QUAD_SUBSET = {(n, "1e-6") for n in (1, 3, 10)}
 SERIES_MAX_LAM = 3000  # series length grows like N*S*log(1/eps)
-ROOT_TOL_DB = mpf("1e-15")
+ROOT_TOL_DB = mpf("1e-25")
 INTEGRAL_SUBSET = {(n, "1e-6") for n in (1, 2, 5, 10)}
 
 
@@ -196,7 +196,7 @@ def main(argv=None):
                 "[(1+T/b) P(N-2,cT) - (N-2)/(bc) P(N-1,cT)], b = 1+NS/2, c = 1-1/b "
                 "(N=1: exp(-T/b)(1+cT/b); N=2: exp(-T/b)(1+T/b)); 4: binomial mixture "
                 "sum_m C(N,m) p^m (1-p)^(N-m) Q(N+m, T/b), b = 1+S/2, p = 1-1/b. "
-                "Required SNR by Illinois root finding in dB to a 1e-15 dB bracket. "
+                "Required SNR by Illinois root finding in dB to a 1e-25 dB bracket. "
                 "See tests/reference/mp_detection.py."),
             "mp_dps": DPS,
             "check_dps": CHECK_DPS,

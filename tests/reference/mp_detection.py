@@ -281,8 +281,13 @@ def _mixture_of_q(pmf, mode, a0, t, eps, k_max=None):
     q = _q_upper(a, t)
     inc = mp.exp(a * mp.log(t) - t - mp.loggamma(a + 1))
     w = mp.exp(lpm(k_lo))
-    smallest = min(w, inc) if inc > 0 else w
-    extra = max(0, int(-mp.log(smallest, 2))) if smallest > 0 else 0
+    # A rounding error made at step j is amplified at most by the largest later
+    # value over the value at j: <= 1/w_{k_lo} for the weights (w <= 1), and for
+    # the increments (which rise only while a < t, with peak <= 1) <= 1/i_start
+    # if a_start < t, else 1. Extra bits cover these factors.
+    extra = int(-mp.log(w, 2)) + 1 if w < 1 else 0
+    if a < t and inc > 0:
+        extra += int(-mp.log(inc, 2)) + 1
     bits = mp.prec + extra + 64 + int(k_hi - k_lo + 1).bit_length()
 
     def fx(x):

@@ -154,22 +154,29 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials):
         log_1mq = -jnp.log1p(mu / r)
     k_lo, k_hi = _mixing_bounds(mu, r)
 
-    # Where the downward recursion starts, and P(K > j_start) there. When all of K's mass lies
-    # above the window (k_lo > j_hi), P(K > j) = 1 on it to 2e-18, so (1) sums to 1 - Pfa and the
-    # recursion is skipped (j_start below j_lo).
+    # Direction of the recursion. DOWN (K's mean at or below the window top): P(K > j) is summed
+    # downward from k_hi, where it is below 2e-18 (Swerling 1/3: exact closed form at the start).
+    # UP (mean above the window): the CDF F(j) = P(K < j) is summed upward from k_lo, where it is
+    # below 2e-18, and P(K > j) = 1 - F(j+1). Both are sums of positive terms and both walk only
+    # from a quantile bound of K to the window. When all of K's mass lies above the window
+    # (k_lo > j_hi), P(K > j) = 1 on it, (1) sums to 1 - Pfa and no step is taken.
     above = k_lo > j_hi
     if swerling in (1, 3):
+        up = jnp.zeros_like(above)
         j_start = jnp.minimum(k_hi, j_hi)
         surv0 = _closed_survival(swerling, j_start + 1.0, log_q, log_1mq)
     else:
-        j_start = k_hi
-        surv0 = jnp.zeros_like(mu)
+        up = (mu > j_hi) & ~above
+        j_start = jnp.where(up, jnp.minimum(k_lo, j_lo), k_hi)
+        surv0 = jnp.zeros_like(mu)  # DOWN: P(K > k_hi) ~ 0; UP: F(k_lo) ~ 0
     j_start = jnp.where(above, j_lo - 1.0, j_start)
+    down = ~up
     pmf0 = jnp.exp(_log_pmf(swerling, j_start, mu, r, log_q, log_1mq))
-    j_first = jnp.minimum(j_start, j_hi)
+    j_first = jnp.clip(j_start, j_lo, j_hi)
     pois0 = jnp.exp(log_poisson_pmf(n + j_first, t))
     inv_mu = 1.0 / mu
     inv_q = jnp.exp(-log_q)
+    q_ = jnp.exp(log_q)
     inv_t = 1.0 / t
     zeros = jnp.zeros_like(t)
 
@@ -181,30 +188,37 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials):
     log_t = jnp.log(t)
 
     def cond(s):
-        return jnp.any(s["j"] >= j_lo)
+        j = s["j"]
+        return jnp.any(jnp.where(down, j >= j_lo, j <= j_hi))
 
     def body(s):
         j = s["j"]
-        live = j >= j_lo
-        inside = live & (j <= j_hi)
+        live = jnp.where(down, j >= j_lo, j <= j_hi)
+        inside = live & (j >= j_lo) & (j <= j_hi)
         pois_j = s["pois"]
         pmf_j = s["pmf"]
-        out = {"acc": s["acc"] + jnp.where(inside, pois_j * s["surv"], 0.0)}
+        # P(K > j): DOWN keeps it in "surv"; UP keeps F(j) = P(K < j) there.
+        tail = jnp.where(down, s["surv"], 1.0 - (s["surv"] + pmf_j))
+        out = {"acc": s["acc"] + jnp.where(inside, pois_j * tail, 0.0)}
         if want_snr:
             weight = 1.0 if r is None else (j + r) / (r + mu)
             out["d_mu"] = s["d_mu"] + jnp.where(inside, pois_j * pmf_j * weight, 0.0)
         if want_all:
             out["d_t"] = s["d_t"] + jnp.where(inside, pois_j * ((n + j) * inv_t) * pmf_j, 0.0)
-            out["d_n"] = s["d_n"] + jnp.where(inside, pois_j * (log_t - s["psi"]) * s["surv"], 0.0)
-            out["psi"] = jnp.where(inside, s["psi"] - 1.0 / (n + j), s["psi"])
+            out["d_n"] = s["d_n"] + jnp.where(inside, pois_j * (log_t - s["psi"]) * tail, 0.0)
+            psi_next = jnp.where(down, s["psi"] - 1.0 / (n + j), s["psi"] + 1.0 / (n + j + 1.0))
+            out["psi"] = jnp.where(inside, psi_next, s["psi"])
         if r is None:
-            ratio = j * inv_mu
+            ratio_down = j * inv_mu
+            ratio_up = mu / (j + 1.0)
         else:
-            ratio = j / (j - 1.0 + r) * inv_q
+            ratio_down = j / (j - 1.0 + r) * inv_q
+            ratio_up = (j + r) / (j + 1.0) * q_
+        pois_next = jnp.where(down, pois_j * ((n + j) * inv_t), pois_j * (t / (n + j + 1.0)))
         out["surv"] = jnp.where(live, s["surv"] + pmf_j, s["surv"])
-        out["pmf"] = jnp.where(live, pmf_j * ratio, pmf_j)
-        out["pois"] = jnp.where(inside, pois_j * ((n + j) * inv_t), pois_j)
-        out["j"] = j - 1.0
+        out["pmf"] = jnp.where(live, pmf_j * jnp.where(down, ratio_down, ratio_up), pmf_j)
+        out["pois"] = jnp.where(inside, pois_next, pois_j)
+        out["j"] = jnp.where(down, j - 1.0, j + 1.0)
         return out
 
     s = jax.lax.while_loop(cond, body, state)

@@ -31,7 +31,7 @@ import jax.numpy as jnp
 from jax.scipy.special import ndtri
 
 from .._checks import DomainError, check_range
-from .core import SWERLING_CASES, _mixture_sum
+from .core import SWERLING_CASES, _chunked, _mixture_sum
 from .probability import N_RANGE, PFA_RANGE, db_to_linear, linear_to_db
 from .threshold import _threshold
 
@@ -80,7 +80,7 @@ def _solve(pd_t, pfa, n, swerling):
         h = z - z_t
         dh = dp * jnp.sqrt(2.0 * jnp.pi) * jnp.exp(0.5 * z * z)
         x_newton = x - h / dh
-        ok = jnp.isfinite(x_newton) & (x_newton > lo) & (x_newton < hi)
+        ok = jnp.isfinite(x_newton) & (x_newton >= lo) & (x_newton <= hi)
         x_new = jnp.where(ok, x_newton, 0.5 * (lo + hi))
         done = (p == pd_t)
         x_new = jnp.where(done, x, x_new)
@@ -113,7 +113,7 @@ def _pd_db(x_db, pfa, n, swerling):
 
 @partial(jax.custom_jvp, nondiff_argnums=(3,))
 def _required_snr(pd_t, pfa, n, swerling):
-    return _solve(pd_t, pfa, n, swerling)
+    return _chunked(lambda p, f, k: _solve(p, f, k, swerling), pd_t, pfa, n)
 
 
 @_required_snr.defjvp

@@ -91,7 +91,13 @@ and works internally with ``GUARD_DPS = 15`` extra digits. Verification (run by
 the grid is re-evaluated at dps 70 and compared with dps 50; the closed forms
 of Swerling 1 and 3 are compared with the quadrature and series routes, and
 Swerling 0 with the Bessel integral. The numbers are in the JSON ``checks``
-block.
+block; for the stored grid (2650 Pd points, 1450 required SNRs, 90 thresholds):
+max |Pd(dps 50) - Pd(dps 70)| = 9.2e-57; max |SNR(dps 50) - SNR(dps 70)| =
+4.5e-26 dB (root bracket 1e-25 dB); threshold relative change 1.0e-62;
+Swerling 1/3 closed vs series 1.8e-57 (points with N*S <= 3000); closed vs
+quad 4.0e-36 (at dps 30; 12 points, N in {1, 3, 10}); Swerling 0 series vs
+Bessel integral 6.2e-61 (8 points, N <= 10). A float64 scipy evaluation
+(ncx2.sf for Swerling 0, gammaincc for Swerling 2) agrees to 4.4e-15.
 
 Monte Carlo (``monte_carlo_pd``) is a plain numpy simulation of the model above
 and serves only as a coarse sanity check.
@@ -107,7 +113,7 @@ from mpmath import mp, mpf
 
 DEFAULT_DPS = 50
 GUARD_DPS = 15
-_QUAD_METHOD = "gauss-legendre"
+_QUAD_METHOD = "gauss-legendre"  # mp.quad rule for the Swerling 1/3 quad route
 
 __all__ = [
     "DEFAULT_DPS",

@@ -18,6 +18,9 @@ Sources (book = Brooker, *Introduction to Sensors for Ranging and Imaging*):
 from __future__ import annotations
 
 import jax.numpy as jnp
+
+from .propagation.dust import dust_volume_backscatter_m2_m3
+from .targets import dielectric_factor_k2
 import numpy as np
 from jax.scipy.special import logsumexp
 
@@ -328,8 +331,7 @@ def dielectric_factor_k_squared(eps_real, eps_imag=0.0):
     w = "dielectric_factor_k_squared"
     check_range("eps_real", eps_real, 1.0, 200.0, where=w)
     check_range("eps_imag", eps_imag, 0.0, 200.0, where=w)
-    eps = eps_real - 1j * eps_imag
-    return jnp.abs((eps - 1.0) / (eps + 2.0)) ** 2
+    return dielectric_factor_k2(jnp.asarray(eps_real, dtype=float) - 1j * jnp.asarray(eps_imag, dtype=float))
 
 
 def rain_reflectivity_factor_mm6_m3(rain_rate_mm_h, a=200.0, b=1.6):
@@ -395,7 +397,7 @@ def dust_volume_reflectivity_m2_m3(wavelength_m, visibility_m, k_squared):
     check_range("wavelength_m", wavelength_m, 1e-3, 10.0, where=w)
     check_range("visibility_m", visibility_m, 0.0, 1e5, lo_open=True, where=w)
     check_range("k_squared", k_squared, 0.0, 1.0, lo_open=True, where=w)
-    return np.pi**5 * k_squared * 1.125e-19 / (wavelength_m**4 * visibility_m**1.07)
+    return dust_volume_backscatter_m2_m3(wavelength_m, visibility_m, k_squared)
 
 
 def resolution_volume_m3(

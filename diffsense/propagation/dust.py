@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import jax.numpy as jnp
 
+from ..targets import dielectric_factor_k2
+
 from diffsense._checks import check_range
 
 __all__ = [
@@ -30,6 +32,10 @@ __all__ = [
 ]
 
 _WHERE = "dust/smoke model"
+
+#: |K|^2 of rock dust, eps = 5.23 - j0.26 (book 8.16.4 for eps'; loss tangent as in dust_radar_attenuation_db_per_km).
+ROCK_DUST_K_SQUARED = 0.3431472760099732
+
 _DB = 10.0 / jnp.log(10.0)
 
 
@@ -71,14 +77,16 @@ def dust_laser_extinction_db_per_km(mass_loading_g_m3, db_per_km_per_mg_m3=0.1):
 def dielectric_factor_k_squared(eps_real, eps_imag):
     """|K|^2 = |(eps - 1)/(eps + 2)|^2 for eps = eps_real - j eps_imag (book eq. (8.38)).
 
-    Args: ``eps_real`` (>= 1), ``eps_imag`` (>= 0, loss). Exact.
-    Example (book §8.16.2): rock 5.23 -> 0.4034; water 8.45 -> 0.6195 (ratio 1.5, 1.8 dB).
+    Args: ``eps_real`` (1 ... 200), ``eps_imag`` (0 ... 200, loss). Exact; evaluated by
+    :func:`diffsense.targets.dielectric_factor_k2`.
+    Example (book 8.16.4): rock 5.23 -> 0.342; water 8.45 -> 0.508 (ratio 1.49, 1.7 dB; the book
+    rounds to 1.5 and 1.8 dB).
     """
     check_range("eps_real", eps_real, 1.0, 200.0, where=_WHERE)
     check_range("eps_imag", eps_imag, 0.0, 200.0, where=_WHERE)
     er = jnp.asarray(eps_real, dtype=float)
     ei = jnp.asarray(eps_imag, dtype=float)
-    return ((er - 1.0) ** 2 + ei**2) / ((er + 2.0) ** 2 + ei**2)
+    return dielectric_factor_k2(er - 1j * ei)
 
 
 def dust_radar_attenuation_db_per_km(freq_hz, mass_loading_g_m3, eps_real=5.23, eps_imag=0.26,
@@ -117,13 +125,13 @@ def dust_radar_attenuation_db_per_km(freq_hz, mass_loading_g_m3, eps_real=5.23, 
     return _DB * 1e3 * alpha_per_m
 
 
-def dust_volume_backscatter_m2_m3(wavelength_m, visibility_m, k_squared=0.4034):
+def dust_volume_backscatter_m2_m3(wavelength_m, visibility_m, k_squared=ROCK_DUST_K_SQUARED):
     """Dust volume backscatter eta = pi^5 |K|^2 1.125e-19 / (lambda^4 V^1.07)  (m^2/m^3).
 
     Args:
         wavelength_m: radar wavelength lambda (m), [1e-4, 10] (Rayleigh regime required).
         visibility_m: visibility V (m), [1, 1e5].
-        k_squared: |K|^2 of the particle material (default rock dust, eps = 5.23 - j0.26).
+        k_squared: |K|^2 of the particle material (default rock dust, eps = 5.23 - j0.26: 0.3431).
 
     The constant 1.125e-19 = 2.25e-9 * (sum P_i D_i^6)/(sum P_i r_i^3) with the sandstorm
     size-distribution sums 2e-24 m^6 and 4e-14 m^3 (book eqs. (8.43)-(8.45)).

@@ -52,6 +52,6 @@ def roc_figure(snr_db_values=(3.0, 6.0, 9.0, 12.0, 15.0), n=1, swerling=0, pfa_r
     ax.set_title(f"ROC, {_SWERLING_LABEL[swerling]}, N = {n:g}")
     ax.set_ylim(0.0, 1.0)
     ax.grid(True, which="both", alpha=0.4)
-    ax.legend(loc="lower right")
+    ax.legend(loc="center left", bbox_to_anchor=(0.01, 0.5), framealpha=0.9)
     fig.tight_layout()
     return fig

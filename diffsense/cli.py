@@ -78,5 +78,84 @@ def detection(
         console.print(f"wrote {path}")
 
 
+def _load_model(design_file: Path, console):
+    """Read and validate a spec; on error print one message and exit with code 2."""
+    from .design import DesignModel
+    from .spec import SpecError, load_spec
+
+    try:
+        spec = load_spec(design_file)
+        return DesignModel(spec)
+    except SpecError as exc:
+        console.print(f"[red]error:[/red] {exc}", highlight=False)
+        raise typer.Exit(code=2)
+
+
+def _fmt(value: float) -> str:
+    a = abs(value)
+    if a != 0 and (a < 1e-3 or a >= 1e6):
+        return f"{value:.4g}"
+    return f"{value:.4f}".rstrip("0").rstrip(".") if a < 1e3 else f"{value:.1f}"
+
+
+def _print_record(record: dict, console, *, title_prefix: str = "") -> None:
+    from rich.table import Table
+
+    console.print(f"[bold]{title_prefix}{record['title']}[/bold] ({record['sensor']})")
+    t = Table(title="Design")
+    for col in ("parameter", "value", "unit", "kind"):
+        t.add_column(col, justify="right" if col == "value" else "left")
+    for name, d in record["design"].items():
+        t.add_row(name, _fmt(d["value"]), d["unit"], d["kind"])
+    for name, option in record.get("choices", {}).items():
+        t.add_row(name, option, "", "catalog option")
+    console.print(t)
+    for case, c in record["cases"].items():
+        if c["budget"]:
+            b = Table(title=f"Link budget ({case})")
+            b.add_column("term")
+            b.add_column("dB", justify="right")
+            for row in c["budget"]:
+                b.add_row(row["term"], f"{row['db']:+.2f}")
+            console.print(b)
+    r = Table(title="Requirements")
+    for col in ("requirement", "value", "limit", "unit", "slack", "met"):
+        r.add_column(col, justify="right" if col in ("value", "limit", "slack") else "left")
+    for row in record["requirements"]:
+        sense = {"at_least": ">=", "at_most": "<=", "equals": "="}[row["sense"]]
+        r.add_row(row["name"], _fmt(row["value"]), f"{sense} {_fmt(row['limit'])}", row["unit"],
+                  _fmt(row["slack"]), "[green]yes[/green]" if row["met"] else "[red]NO[/red]")
+    console.print(r)
+    console.print(f"objective: {record['objective']['text']} = {_fmt(record['objective']['value'])}")
+
+
+def _write_json(record: dict, path: Optional[Path], console) -> None:
+    if path is None:
+        return
+    import json
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(record, indent=2))
+    console.print(f"wrote {path}")
+
+
+@app.command()
+def evaluate(
+    design_file: Path = typer.Argument(..., help="Requirement spec (TOML), e.g. designs/ore_pass.toml."),
+    json_out: Optional[Path] = typer.Option(None, "--json", help="Write the evaluation as JSON here."),
+):
+    """Evaluate a spec at its initial design (each variable's 'initial', each catalog's first option)."""
+    from rich.console import Console
+
+    from .design import design_record
+
+    console = Console()
+    model = _load_model(design_file, console)
+    record = design_record(model, model.initial, 0)
+    record["converged"] = None
+    _print_record(record, console, title_prefix="Evaluation: ")
+    _write_json(record, json_out, console)
+
+
 if __name__ == "__main__":
     app()

@@ -5,9 +5,9 @@ inherit its accuracy (< 1e-9 dB) and its implicit derivatives.
 
 * fluctuation loss: extra single-pulse SNR a fluctuating target needs over a steady one at the
   same Pd, Pfa and N.
-* integration gain: reduction of the required single-pulse SNR from 1 to N pulses, i.e.
-  10 log10 of the integration improvement factor I(N) = N S_N / S_1 minus 10 log10 N... stated
-  precisely: gain_dB = SNR_1 - SNR_N (the book's "improvement" of Figure 9.17).
+* integration gain: the reduction of the required single-pulse SNR when N pulses are
+  integrated instead of one, gain_dB = SNR_1 - SNR_N = 10 log10 I(N), where I(N) = S_1 / S_N
+  is the integration improvement factor (the book's "improvement", Figure 9.17).
 * integration loss: 10 log10 N - gain_dB, the shortfall of noncoherent integration with respect
   to perfect coherent integration.
 """

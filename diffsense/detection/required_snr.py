@@ -31,7 +31,7 @@ import jax.numpy as jnp
 from jax.scipy.special import ndtri
 
 from .._checks import DomainError, check_range
-from .core import SWERLING_CASES, _chunked, _mixture_sum
+from .core import SWERLING_CASES, _chunked, _mixture_sum, pd_given_threshold
 from .probability import N_RANGE, PFA_RANGE, db_to_linear, linear_to_db
 from .threshold import _threshold
 
@@ -102,13 +102,7 @@ def _start(pd_t, pfa, n, swerling):
 
 
 def _pd_db(x_db, pfa, n, swerling):
-    t = _threshold(pfa, n)
-    snr = db_to_linear(x_db)
-    if swerling == 2:
-        return jax.scipy.special.gammaincc(n, t / (1.0 + snr))
-    from .core import _pd_mixture
-
-    return _pd_mixture(snr, t, n, pfa, swerling)
+    return pd_given_threshold(db_to_linear(x_db), _threshold(pfa, n), n, swerling, pfa=pfa)
 
 
 @partial(jax.custom_jvp, nondiff_argnums=(3,))

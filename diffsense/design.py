@@ -1,0 +1,229 @@
+"""A requirement spec as a differentiable model of its design vector.
+
+:class:`DesignModel` turns a validated :class:`~diffsense.spec.Spec` into pure JAX functions of
+
+* ``x`` — the continuous and integer design variables in their own units (a vector, in the
+  order of ``spec.variables``), and
+* ``combo`` — one row of the catalog table: the values of every parameter set by a catalog
+  choice (a vector; the model enumerates all combinations of catalog options),
+
+returning each case's chain evaluation, the requirement outputs, normalised constraint
+residuals (≤ 0 when met) and the objective. The requirement limits are a separate argument
+(``limits``) so that an optimum can be differentiated with respect to them.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from typing import Dict, List
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .chain import Evaluation, complete_parameters, chain_for
+from .spec import Spec
+
+# units in which a difference of 1 is a natural step (no normalisation by the limit)
+_ABSOLUTE_UNITS = {"dB", "deg", "1"}
+
+
+@dataclass(frozen=True)
+class Combination:
+    """One choice of an option for every catalog: names and the parameter values it sets."""
+
+    index: int
+    options: Dict[str, str]  # catalog -> option name
+    values: Dict[str, float]  # parameter -> value
+    cost: float
+
+
+class DesignModel:
+    """Pure functions of the design for one spec (see the module docstring)."""
+
+    def __init__(self, spec: Spec):
+        self.spec = spec
+        self.variable_names: List[str] = list(spec.variables)
+        vs = [spec.variables[n] for n in self.variable_names]
+        self.lower = np.array([v.lower for v in vs], dtype=float)
+        self.upper = np.array([v.upper for v in vs], dtype=float)
+        self.initial = np.array([v.initial for v in vs], dtype=float)
+        self.log_scale = np.array([v.log_scale for v in vs], dtype=bool)
+        self.integer = np.array([v.integer for v in vs], dtype=bool)
+
+        # catalog combinations (cartesian product of every catalog's options)
+        self.choice_names = list(spec.choices)
+        self.combo_params: List[str] = []
+        for c in self.choice_names:
+            self.combo_params.extend(spec.choices[c].settings[0])
+        combos = []
+        per_choice = [range(len(spec.choices[c].option_names)) for c in self.choice_names]
+        for idx, pick in enumerate(itertools.product(*per_choice)):
+            opts, vals, cost = {}, {}, 0.0
+            for c, k in zip(self.choice_names, pick):
+                ch = spec.choices[c]
+                opts[c] = ch.option_names[k]
+                vals.update(ch.settings[k])
+                cost += ch.costs[k]
+            combos.append(Combination(idx, opts, vals, cost))
+        self.combinations = combos
+        self.combo_table = np.array([[c.values[p] for p in self.combo_params] + [c.cost] for c in combos],
+                                    dtype=float).reshape(len(combos), len(self.combo_params) + 1)
+
+        self.requirements = list(spec.requirements)
+        self.limits = np.array([r.limit for r in self.requirements], dtype=float)
+        self.scales = np.array([1.0 if r.unit in _ABSOLUTE_UNITS else max(abs(r.limit), 1e-300)
+                                for r in self.requirements], dtype=float)
+        self.is_equality = np.array([r.sense == "equals" for r in self.requirements], dtype=bool)
+        self.sign = np.array([-1.0 if r.sense == "at_least" else 1.0 for r in self.requirements], dtype=float)
+
+        # fixed parameters per case, completed with defaults (validated once, concretely)
+        self.fixed = {}
+        for case, scene in spec.scenes.items():
+            chain = chain_for(scene)
+            table = chain.parameters(scene)
+            sample = dict(spec.fixed[case])
+            for i, n in enumerate(self.variable_names):
+                if n in table:
+                    sample[n] = float(self.initial[i])
+            for j, n in enumerate(self.combo_params):
+                if n in table:
+                    sample[n] = float(self.combo_table[0, j])
+            complete = complete_parameters(scene, sample)
+            self.fixed[case] = {k: v for k, v in complete.items()
+                                if k not in self.variable_names and k not in self.combo_params}
+        # objective normalisation: its magnitude at the initial design of the first combination
+        self._objective_scale = 1.0
+        f0 = float(self.raw_objective(jnp.asarray(self.initial), jnp.asarray(self.combo_table[0])))
+        self._objective_scale = max(abs(f0), 1e-300) if np.isfinite(f0) and f0 != 0 else 1.0
+
+    # --- evaluation --------------------------------------------------------------------------
+    def parameters(self, x, combo) -> Dict[str, Dict[str, jnp.ndarray]]:
+        """Per case, the full parameter dict for design ``x`` and catalog row ``combo``."""
+        out = {}
+        for case, scene in self.spec.scenes.items():
+            table = self.spec.parameters[case]
+            p = dict(self.fixed[case])
+            for i, n in enumerate(self.variable_names):
+                if n in table:
+                    p[n] = x[i]
+            for j, n in enumerate(self.combo_params):
+                if n in table:
+                    p[n] = combo[j]
+            out[case] = p
+        return out
+
+    def evaluate(self, x, combo) -> Dict[str, Evaluation]:
+        """Each case's chain evaluation at design ``x`` and catalog row ``combo``."""
+        res = {}
+        for case, p in self.parameters(x, combo).items():
+            scene = self.spec.scenes[case]
+            res[case] = chain_for(scene).compute(scene, p)
+        return res
+
+    def requirement_values(self, x, combo, evaluations=None) -> jnp.ndarray:
+        """The requirement outputs (their own units), in spec order."""
+        ev = self.evaluate(x, combo) if evaluations is None else evaluations
+        return jnp.stack([jnp.asarray(ev[r.case].values[r.output], dtype=float) for r in self.requirements])
+
+    def residuals(self, x, combo, limits) -> jnp.ndarray:
+        """Normalised residuals: ≤ 0 when an inequality is met, = 0 when an equality is met."""
+        values = self.requirement_values(x, combo)
+        return self.sign * (values - limits) / self.scales
+
+    def raw_objective(self, x, combo, evaluations=None) -> jnp.ndarray:
+        """Objective in the spec's own terms (weighted sum; maximisation negated)."""
+        total = jnp.asarray(0.0)
+        ev = None
+        first = next(iter(self.spec.scenes))
+        for name, weight in self.spec.objective.terms:
+            if name == "cost":
+                total = total + weight * combo[-1]
+                continue
+            case, base = (name.split(".", 1) if "." in name else (first, name))
+            if base in self.variable_names:
+                val = x[self.variable_names.index(base)]
+            elif base in self.combo_params:
+                val = combo[self.combo_params.index(base)]
+            elif base in self.spec.outputs[case]:
+                if ev is None:
+                    ev = self.evaluate(x, combo) if evaluations is None else evaluations
+                val = ev[case].values[base]
+            else:
+                val = self.fixed[case][base]
+            total = total + weight * val
+        return self.spec.objective.sign * total
+
+    def objective(self, x, combo) -> jnp.ndarray:
+        """Normalised objective (≈ ±1 at the initial design) to be minimised."""
+        return self.raw_objective(x, combo) / self._objective_scale
+
+    def requirement_report(self, x, combo, tol: float = 1e-9) -> List[dict]:
+        """Requirement rows {name, output, case, value, limit, unit, sense, met, slack}."""
+        values = np.asarray(self.requirement_values(jnp.asarray(x), jnp.asarray(combo)))
+        rows = []
+        for r, v in zip(self.requirements, values):
+            if r.sense == "at_least":
+                slack = v - r.limit
+            elif r.sense == "at_most":
+                slack = r.limit - v
+            else:
+                slack = -abs(v - r.limit)
+            scale = 1.0 if r.unit in _ABSOLUTE_UNITS else max(abs(r.limit), 1e-300)
+            rows.append({"name": r.name, "case": r.case, "output": r.output, "value": float(v),
+                         "limit": r.limit, "unit": r.unit, "sense": r.sense,
+                         "met": bool(slack >= -tol * scale), "slack": float(slack)})
+        return rows
+
+    def combo_index(self, options: Dict[str, str]) -> int:
+        """Index of the combination with the given catalog option names."""
+        for c in self.combinations:
+            if all(c.options[k] == v for k, v in options.items()):
+                return c.index
+        raise KeyError(options)
+
+
+def _jsonable(value):
+    arr = np.asarray(value)
+    return float(arr) if arr.ndim == 0 else arr.tolist()
+
+
+def design_record(model: DesignModel, x, combo_index: int) -> dict:
+    """JSON-ready description of one design: the design values with units, requirements,
+    objective, and per case the link budget and every output."""
+    spec = model.spec
+    combo = model.combo_table[combo_index]
+    x = np.asarray(x, dtype=float)
+    design = {}
+    for i, n in enumerate(model.variable_names):
+        v = spec.variables[n]
+        design[n] = {"value": float(x[i]), "unit": v.unit, "kind": "integer" if v.integer else "continuous",
+                     "lower": v.lower, "upper": v.upper}
+    first = next(iter(spec.scenes))
+    for j, n in enumerate(model.combo_params):
+        design[n] = {"value": float(combo[j]), "unit": spec.unit_of(first, n), "kind": "catalog"}
+    choices = dict(model.combinations[combo_index].options)
+    evaluations = model.evaluate(jnp.asarray(x), jnp.asarray(combo))
+    cases = {}
+    for case, ev in evaluations.items():
+        outs = spec.outputs[case]
+        cases[case] = {
+            "parts": sorted(spec.scenes[case].parts),
+            "options": dict(spec.scenes[case].options),
+            "budget": ([{"term": n, "db": _jsonable(v)} for n, v in zip(ev.budget.names, ev.budget.values)]
+                       if ev.budget is not None else []),
+            "outputs": {k: {"value": _jsonable(v), "unit": outs[k].unit if k in outs else ""}
+                        for k, v in ev.values.items()},
+        }
+    return {
+        "name": spec.name,
+        "title": spec.title,
+        "sensor": spec.sensor,
+        "design": design,
+        "choices": choices,
+        "requirements": model.requirement_report(x, combo),
+        "objective": {"text": spec.objective.text,
+                      "value": float(model.raw_objective(jnp.asarray(x), jnp.asarray(combo)) * spec.objective.sign)},
+        "cases": cases,
+    }

@@ -28,9 +28,10 @@ from functools import partial
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jax.scipy.special import ndtri
 
-from .._checks import DomainError, check_range
+from .._checks import DomainError, check_range, is_concrete
 from .core import SWERLING_CASES, _chunked, _mixture_sum, pd_given_threshold
 from .probability import N_RANGE, PFA_RANGE, db_to_linear, linear_to_db
 from .threshold import _threshold
@@ -151,8 +152,9 @@ def required_snr_db(pd, pfa, n=1, swerling=0, method="exact"):
     check_range("pd", pd, 0.0, 1.0 - 1e-12, lo_open=True, where=where)
     dtype = jnp.result_type(pd, pfa, n, float)
     pd_t, pfa, n = jnp.broadcast_arrays(*(jnp.asarray(a, dtype=dtype) for a in (pd, pfa, n)))
-    if not isinstance(pd_t, jax.core.Tracer) and not isinstance(pfa, jax.core.Tracer):
-        if bool(jnp.any(pd_t <= pfa)):
+    if is_concrete(pd_t) and is_concrete(pfa):
+        # numpy comparison: inside a trace even operations on concrete arrays are staged
+        if bool(np.any(np.asarray(pd_t) <= np.asarray(pfa))):
             raise DomainError(f"{where}: pd must exceed pfa (a detector with Pd <= Pfa needs no signal)")
     return _required_snr(pd_t, pfa, n, 0 if swerling == 5 else swerling)
 

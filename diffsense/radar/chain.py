@@ -57,6 +57,7 @@ from __future__ import annotations
 
 import math
 
+import jax
 import jax.numpy as jnp
 from jax.scipy.special import logsumexp
 
@@ -401,8 +402,10 @@ class RadarChain(Chain):
         beta = p["bandwidth_hz"]
         r0 = p["range_m"]
         if scene.has("multipath") and all(is_concrete(x) for x in (r0, p["antenna_height_m"], p["target_height_m"])):
-            horizon = radar_horizon_m(p["antenna_height_m"], p["target_height_m"])
-            if bool(jnp.any(r0 >= horizon)):
+            with jax.ensure_compile_time_eval():  # concrete inputs: evaluate eagerly even under a trace
+                horizon = radar_horizon_m(p["antenna_height_m"], p["target_height_m"])
+                outside = bool(jnp.any(r0 >= horizon))
+            if outside:
                 raise DomainError("radar chain, multipath: 'range_m' must lie inside the radar horizon "
                                   f"d(h_antenna) + d(h_target) = {float(jnp.min(horizon)):.1f} m")
 

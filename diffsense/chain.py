@@ -287,6 +287,14 @@ def _load_chains():
             importlib.import_module(f"{__package__}.{name}")
 
 
+def sensor_kinds() -> list:
+    """Names of the registered sensor chains."""
+    if not _LOADED:
+        _load_chains()
+        _LOADED.append(True)
+    return sorted(CHAINS)
+
+
 def chain_for(scene: Scene) -> Chain:
     """The registered chain of ``scene.sensor`` (validated against the scene)."""
     if not _LOADED:

@@ -15,6 +15,11 @@ def main():
     """diffsense command-line tools."""
     import os
 
+    # XLA:CPU compiles the loop-heavy solver programs about 40 % faster without its fusion
+    # emitters, at equal run time; read when the backend starts, so set before first use.
+    flag = "--xla_cpu_use_fusion_emitters=false"
+    if flag not in os.environ.get("XLA_FLAGS", ""):
+        os.environ["XLA_FLAGS"] = (os.environ.get("XLA_FLAGS", "") + " " + flag).strip()
     import jax
 
     # Compiled XLA programs are kept between runs, so only the first run pays compilation.
@@ -155,6 +160,44 @@ def evaluate(
     record["converged"] = None
     _print_record(record, console, title_prefix="Evaluation: ")
     _write_json(record, json_out, console)
+
+
+@app.command()
+def optimize(
+    design_file: Path = typer.Argument(..., help="Requirement spec (TOML), e.g. designs/ore_pass.toml."),
+    json_out: Optional[Path] = typer.Option(None, "--json", help="Write the optimised design as JSON here."),
+    starts: int = typer.Option(8, help="Starts per catalog combination (the spec's initial design + Latin hypercube)."),
+    seed: int = typer.Option(0, help="Seed of the multi-start design."),
+):
+    """Optimise a spec: best design meeting every requirement (exit 3 when none can)."""
+    import time
+
+    from rich.console import Console
+
+    from .design import design_record
+    from .design_optimizer import optimize_design
+
+    console = Console()
+    t0 = time.perf_counter()
+    model = _load_model(design_file, console)
+    result = optimize_design(model, n_starts=starts, seed=seed)
+    record = design_record(model, result.x, result.combo_index)
+    record["converged"] = result.converged
+    record["feasible"] = result.feasible
+    record["multistart"] = {"starts": result.starts, "converged": result.starts_converged,
+                            "reached_best": result.starts_at_best}
+    record["candidates"] = result.candidates
+    for row, lam in zip(record["requirements"], result.multipliers):
+        row["multiplier"] = float(lam)
+    record["solve_time_s"] = time.perf_counter() - t0
+    _print_record(record, console, title_prefix="Optimum: " if result.feasible else "Best compromise: ")
+    console.print(f"converged: {result.converged}; starts reaching the best: {result.starts_at_best}/{result.starts}; "
+                  f"time {record['solve_time_s']:.1f} s")
+    _write_json(record, json_out, console)
+    if not result.feasible:
+        console.print("[red]infeasible:[/red] these requirements cannot be met together within the bounds: "
+                      + "; ".join(result.unmet))
+        raise typer.Exit(code=3)
 
 
 if __name__ == "__main__":

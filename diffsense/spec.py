@@ -46,14 +46,14 @@ from pathlib import Path
 from typing import Dict, List, Mapping, Optional, Tuple
 
 from ._checks import DomainError
-from .chain import CHAINS, Output, Param, chain_for
+from .chain import Output, Param, chain_for, sensor_kinds
 from .scene import Scene
 from .units import UnitError, to_unit
 
 SENSES = ("at_least", "at_most", "equals")
 _TOP_KEYS = {"name", "title", "description", "sensor", "parts", "options", "fixed", "variables",
              "choices", "cases", "requirements", "objective", "notes"}
-_VARIABLE_KEYS = {"lower", "upper", "initial", "scale", "integer", "choices", "doc"}
+_VARIABLE_KEYS = {"lower", "upper", "initial", "scale", "integer", "choices", "costs", "doc"}
 _REQUIREMENT_KEYS = {"output", "name", "doc"} | set(SENSES)
 _OBJECTIVE_KEYS = {"minimize", "maximize", "doc"}
 _CASE_RESERVED = {"parts", "doc"}
@@ -208,10 +208,13 @@ def parse_spec(raw: Mapping, path="<spec>") -> Spec:
     f = path
     _reject_unknown(f, "", raw, _TOP_KEYS)
     if "sensor" not in raw:
-        raise SpecError(f, "sensor", f"missing; one of {sorted(CHAINS) or ['radar', 'lidar', 'sonar', 'radiometer', 'infrared', 'ultrasonic']}")
+        raise SpecError(f, "sensor", "missing: name the sensor kind, e.g. sensor = \"radar\"")
     sensor = raw["sensor"]
     if not isinstance(sensor, str):
         raise SpecError(f, "sensor", "must be a string")
+    if sensor not in sensor_kinds():
+        raise SpecError(f, "sensor", f"unknown sensor kind {sensor!r}{_closest(sensor, sensor_kinds())}; "
+                        f"known kinds: {sensor_kinds()}")
     options = raw.get("options", {})
     if not isinstance(options, dict):
         raise SpecError(f, "options", "must be a table")
@@ -260,9 +263,9 @@ def parse_spec(raw: Mapping, path="<spec>") -> Spec:
             raise SpecError(f, key, "must be a table with lower/upper (or choices)")
         _reject_unknown(f, key + ".", vt, _VARIABLE_KEYS)
         if "choices" in vt:
-            extra = set(vt) - {"choices", "doc"}
+            extra = set(vt) - {"choices", "costs", "doc"}
             if extra:
-                raise SpecError(f, f"{key}.{sorted(extra)[0]}", "a catalog variable takes only 'choices'")
+                raise SpecError(f, f"{key}.{sorted(extra)[0]}", "a catalog variable takes only 'choices' and 'costs'")
             opts = vt["choices"]
             if not isinstance(opts, list) or len(opts) < 1:
                 raise SpecError(f, f"{key}.choices", "must be a non-empty list of values")
@@ -271,8 +274,12 @@ def parse_spec(raw: Mapping, path="<spec>") -> Spec:
                 v = _quantity(f, f"{key}.choices[{i}]", o, prm.unit)
                 _check_domain(f, f"{key}.choices[{i}]", prm, v)
                 vals.append(v)
+            costs = vt.get("costs", [0.0] * len(vals))
+            if (not isinstance(costs, list) or len(costs) != len(vals)
+                    or not all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in costs)):
+                raise SpecError(f, f"{key}.costs", f"must be a list of {len(vals)} numbers, one per choice")
             choices[vname] = Choice(vname, tuple(str(o) for o in opts), tuple({vname: v} for v in vals),
-                                    tuple(0.0 for _ in vals))
+                                    tuple(float(c) for c in costs))
             continue
         for bound in ("lower", "upper"):
             if bound not in vt:

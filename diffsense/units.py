@@ -21,6 +21,10 @@ _EXTRA_LOG_UNITS = {"dBsm": "m**2", "dBi": "dimensionless"}
 _UNIT_ALIASES = {"dBsm": "dBsm", "dBm2": "dBsm", "dBi": "dBi"}
 
 
+# absolute levels: name -> (linear unit, level of 1 linear unit in this scale)
+_LOG_LEVELS = {"dBm": ("W", 30.0), "dBW": ("W", 0.0), "dBsm": ("m**2", 0.0)}
+
+
 class UnitError(ValueError):
     """A quantity could not be read or converted to the required unit."""
 
@@ -84,6 +88,15 @@ def to_unit(value: Union[str, int, float], target: str) -> float:
         raise UnitError(f"unit {unit!r} cannot be converted to 'dB' (write e.g. '3 dB')")
     if unit == "" and target not in ("", "1", "dimensionless"):
         return number
+    if target in _LOG_LEVELS:
+        if unit == target:
+            return number
+        if unit in _LOG_LEVELS and _LOG_LEVELS[unit][0] == _LOG_LEVELS[target][0]:
+            return number - _LOG_LEVELS[unit][1] + _LOG_LEVELS[target][1]
+        linear = _to_linear(number, unit, _LOG_LEVELS[target][0])
+        if linear <= 0:
+            raise UnitError(f"{value!r} is not positive, so it has no level in {target}")
+        return 10.0 * math.log10(linear) + _LOG_LEVELS[target][1]
     if unit == "dB" and target in ("", "1", "dimensionless"):
         return 10.0 ** (number / 10.0)
     return _to_linear(number, unit, target)

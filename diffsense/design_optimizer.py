@@ -1,0 +1,196 @@
+"""Optimise a requirement spec: catalog choices, integer relaxation and multi-start.
+
+Steps (all catalog combinations and all starts run in one vectorised call each):
+
+1. **Continuous relaxation.** For every catalog combination and every start (the spec's
+   initial design plus seeded Latin-hypercube points in the scaled box), minimise the
+   normalised objective subject to the requirements with
+   :func:`diffsense.optimize.solve` (augmented Lagrangian, bounds never violated). The
+   requirements are tightened by a small ``margin`` (scaled units) so that the answer meets
+   them when re-evaluated, not only to the solver's tolerance.
+2. **Integers.** Integer variables of the best relaxed answer of each combination are rounded
+   to every floor/ceil neighbour combination; the continuous rest is re-solved with the
+   integers fixed, and the best feasible neighbour is kept (neighbour verification).
+3. **Choice.** The feasible combination with the lowest objective wins. When no combination is
+   feasible the least-infeasible answer is returned with ``feasible`` False and the
+   requirements it leaves unmet.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from typing import List, Optional
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .design import DesignModel
+from .optimize import Problem, SolverOptions, solve
+
+
+@dataclass
+class DesignOptimum:
+    """Outcome of :func:`optimize_design`."""
+
+    x: np.ndarray  # design variables (their units)
+    combo_index: int
+    objective: float  # spec's own objective value (minimised or maximised as stated)
+    converged: bool
+    feasible: bool
+    multipliers: np.ndarray  # per requirement (normalised objective per scaled residual)
+    starts: int
+    starts_converged: int
+    starts_at_best: int
+    unmet: List[str]
+    candidates: List[dict]  # per combination: options, objective, feasible
+
+
+def _lhs(n_starts: int, n_var: int, seed: int) -> np.ndarray:
+    """Latin-hypercube sample in [0, 1]^n (one point per stratum and dimension)."""
+    rng = np.random.default_rng(seed)
+    u = (rng.random((n_starts, n_var)) + np.arange(n_starts)[:, None]) / n_starts
+    for j in range(n_var):
+        u[:, j] = u[rng.permutation(n_starts), j]
+    return u
+
+
+def _from_unit(model: DesignModel, u: np.ndarray) -> np.ndarray:
+    lo, hi = model.lower, model.upper
+    log = model.log_scale
+    out = np.where(log, np.exp(np.log(np.where(log, lo, 1.0)) + u * (np.log(np.where(log, hi, 1.0)) - np.log(np.where(log, lo, 1.0)))),
+                   lo + u * (hi - lo))
+    return np.clip(out, lo, hi)
+
+
+def build_problem(model: DesignModel, free=None) -> Problem:
+    """The optimiser's :class:`Problem` for ``model``.
+
+    θ = (catalog row, requirement limits, full design vector). ``free`` (indices) selects the
+    variables the solver moves; the others keep their values from θ's design vector (used to
+    re-solve the continuous variables with the integers fixed).
+    """
+    ineq = ~model.is_equality
+    eq = model.is_equality
+    free = np.arange(len(model.variable_names)) if free is None else np.asarray(free, dtype=int)
+
+    def full(x, theta):
+        return theta[2].at[free].set(x)
+
+    def objective(x, theta):
+        return model.objective(full(x, theta), theta[0])
+
+    def inequality(x, theta):
+        return model.residuals(full(x, theta), theta[0], theta[1])[ineq]
+
+    def equality(x, theta):
+        return model.residuals(full(x, theta), theta[0], theta[1])[eq]
+
+    return Problem(objective, model.lower[free], model.upper[free], inequality=inequality if ineq.any() else None,
+                   equality=equality if eq.any() else None, log_scale=model.log_scale[free],
+                   names=[model.variable_names[i] for i in free])
+
+
+def _tight_limits(model: DesignModel, margin: float) -> np.ndarray:
+    # move each inequality limit inward by margin (in scaled units): at_least up, at_most down
+    return model.limits - model.sign * margin * model.scales * (~model.is_equality)
+
+
+def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, margin: float = 1e-7,
+                    options: Optional[SolverOptions] = None) -> DesignOptimum:
+    """Optimise ``model`` (see the module docstring). Deterministic for a given ``seed``."""
+    options = options or SolverOptions(polish=False)
+    n_var = len(model.variable_names)
+    n_combo = len(model.combinations)
+    limits = _tight_limits(model, margin)
+    problem = build_problem(model)
+
+    starts = np.vstack([model.initial[None, :], _from_unit(model, _lhs(max(n_starts - 1, 0), n_var, seed))])
+    starts = starts[:max(n_starts, 1)]
+    n_s = starts.shape[0]
+    # grid: combos x starts
+    x0 = np.repeat(starts[None, :, :], n_combo, axis=0).reshape(-1, n_var)
+    combos = np.repeat(model.combo_table[:, None, :], n_s, axis=1).reshape(-1, model.combo_table.shape[1])
+    lim = np.broadcast_to(limits, (x0.shape[0], limits.size))
+
+    solver = jax.jit(jax.vmap(lambda x, c, l: solve(problem, x, (c, l, x), options)))
+    res = solver(jnp.asarray(x0), jnp.asarray(combos), jnp.asarray(lim))
+    f = np.asarray(res.f).reshape(n_combo, n_s)
+    feas = np.asarray(res.feasible).reshape(n_combo, n_s)
+    conv = np.asarray(res.converged).reshape(n_combo, n_s)
+    xs = np.asarray(res.x).reshape(n_combo, n_s, n_var)
+
+    best_rows = []
+    for c in range(n_combo):
+        score = np.where(feas[c], f[c], np.inf)
+        k = int(np.argmin(score)) if np.isfinite(score).any() else int(np.argmin(np.asarray(res.kkt.feasibility).reshape(n_combo, n_s)[c]))
+        best_rows.append(k)
+
+    # integer rounding with neighbour verification
+    final_x = np.array([xs[c, best_rows[c]] for c in range(n_combo)])
+    final_f = np.array([f[c, best_rows[c]] for c in range(n_combo)])
+    final_feas = np.array([feas[c, best_rows[c]] for c in range(n_combo)])
+    final_conv = np.array([conv[c, best_rows[c]] for c in range(n_combo)])
+    final_lam = np.array([np.asarray(res.lam).reshape(n_combo, n_s, -1)[c, best_rows[c]] for c in range(n_combo)])
+    int_idx = np.flatnonzero(model.integer)
+    if int_idx.size:
+        cand_x, cand_c = [], []
+        for c in range(n_combo):
+            choices = [sorted({np.floor(final_x[c, i]), np.ceil(final_x[c, i])}) for i in int_idx]
+            for pick in itertools.product(*choices):
+                x = final_x[c].copy()
+                x[int_idx] = pick
+                cand_x.append(x)
+                cand_c.append(c)
+        cand_x = np.clip(np.array(cand_x), model.lower, model.upper)
+        cand_c = np.array(cand_c)
+        cont_idx = np.flatnonzero(~model.integer)
+        fixed_problem = build_problem(model, cont_idx)
+        fsolver = jax.jit(jax.vmap(lambda x, c, l, full: solve(fixed_problem, x, (c, l, full), options)))
+        r2 = fsolver(jnp.asarray(cand_x[:, cont_idx]), jnp.asarray(model.combo_table[cand_c]),
+                     jnp.asarray(np.broadcast_to(limits, (cand_x.shape[0], limits.size))), jnp.asarray(cand_x))
+        r2_x = cand_x.copy()
+        r2_x[:, cont_idx] = np.asarray(r2.x)
+        f2 = np.asarray(r2.f)
+        feas2 = np.asarray(r2.feasible)
+        for c in range(n_combo):
+            rows = np.flatnonzero(cand_c == c)
+            score = np.where(feas2[rows], f2[rows], np.inf)
+            if np.isfinite(score).any():
+                k = rows[int(np.argmin(score))]
+                final_x[c] = r2_x[k]
+                final_f[c] = f2[k]
+                final_feas[c] = True
+                final_conv[c] = bool(np.asarray(r2.converged)[k])
+                final_lam[c] = np.asarray(r2.lam)[k]
+            else:
+                final_feas[c] = False
+                final_x[c, int_idx] = np.round(final_x[c, int_idx])
+
+    # exact re-evaluation decides feasibility
+    reports = [model.requirement_report(final_x[c], model.combo_table[c]) for c in range(n_combo)]
+    met = np.array([all(r["met"] for r in rep) for rep in reports])
+    raw_obj = np.array([float(model.raw_objective(jnp.asarray(final_x[c]), jnp.asarray(model.combo_table[c])))
+                        for c in range(n_combo)])
+    score = np.where(met, raw_obj, np.inf)
+    if np.isfinite(score).any():
+        best = int(np.argmin(score))
+    else:
+        viol = [sum(max(-r["slack"], 0.0) / (1.0 if r["unit"] in ("dB", "deg", "1") else max(abs(r["limit"]), 1e-300))
+                    for r in rep) for rep in reports]
+        best = int(np.argmin(viol))
+    # multi-start statistics of the winning combination's relaxed solve
+    fb = f[best]
+    ok = feas[best] & conv[best]
+    best_f = np.min(np.where(ok, fb, np.inf)) if ok.any() else np.inf
+    at_best = int(np.sum(ok & (np.abs(fb - best_f) <= 1e-6 * max(abs(best_f), 1e-12)))) if np.isfinite(best_f) else 0
+    full_lam = np.zeros(len(model.requirements))
+    full_lam[~model.is_equality] = final_lam[best][: int((~model.is_equality).sum())]
+    candidates = [{"options": model.combinations[c].options, "objective": float(raw_obj[c] * model.spec.objective.sign),
+                   "feasible": bool(met[c])} for c in range(n_combo)]
+    return DesignOptimum(
+        x=final_x[best], combo_index=best, objective=float(raw_obj[best] * model.spec.objective.sign),
+        converged=bool(final_conv[best] and met[best]), feasible=bool(met[best]), multipliers=full_lam,
+        starts=n_s, starts_converged=int(ok.sum()), starts_at_best=at_best,
+        unmet=[r["name"] for r in reports[best] if not r["met"]], candidates=candidates)

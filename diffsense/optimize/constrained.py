@@ -1,0 +1,664 @@
+"""Augmented-Lagrangian solver for bound-, inequality- and equality-constrained problems.
+
+Method
+------
+Neither optimistix nor jaxopt solves general inequality constraints, and optimistix has no
+bounded minimiser, so the constraint layer lives here. The solver is the
+Powell–Hestenes–Rockafellar (PHR) augmented Lagrangian with bounds kept in the subproblem
+(the ALGENCAN scheme: Andreani, Birgin, Martínez & Schuverdt, SIAM J. Optim. 18 (2007)
+1286–1309; Birgin & Martínez, *Practical Augmented Lagrangian Methods for Constrained
+Optimization*, SIAM 2014, Algorithm 4.1; Nocedal & Wright, *Numerical Optimization*, 2nd ed.,
+§17.3–17.4). In scaled coordinates z (see :mod:`diffsense.optimize.problem`) with scaled
+functions F = s_f f, G = s_g ⊙ g, H = s_h ⊙ h:
+
+    L_ρ(z; λ, ν) = F(z) + Σ_j [ν_j H_j + ρ/2 H_j²] + 1/(2ρ) Σ_i [max(0, λ_i + ρ G_i)² − λ_i²]
+
+Each outer iteration minimises L_ρ over the box zlo ≤ z ≤ zhi (warm started), then updates
+λ ← max(0, λ + ρG), ν ← ν + ρH (safeguarded to |·| ≤ ``multiplier_max``), and multiplies ρ by
+``penalty_growth`` when the infeasibility–complementarity measure
+V = max(‖max(G, −λ/ρ)‖∞, ‖H‖∞) fell by less than ``feasibility_reduction``.
+The max(0, ·) form handles inequalities without slack variables; with the updated multipliers
+∇_z L_ρ(z; λ_old, ν_old) = ∇_z L₀(z; λ_new, ν_new), so the inner stationarity is the outer
+stationarity.
+
+Why this design:
+* PHR keeps ρ bounded on regular problems (unlike a pure penalty), so the subproblems stay
+  well conditioned, and its multiplier estimates converge to the KKT multipliers.
+* Inner solver, default ``inner="bfgs"``: optimistix's BFGS over a smooth surjective
+  reparameterisation of the box, z = c + r sin y (two finite bounds), z = lo + y² or
+  hi − y² (one), z = y (none). An active bound is reached at a finite y where dz/dy = 0;
+  there the reparameterised objective has curvature r·|∂L/∂z| > 0 in y when the bound is
+  strictly active, so BFGS still converges superlinearly, and z lands on the bound to
+  rounding. Chosen over ``inner="lbfgsb"`` (jaxopt's L-BFGS-B, Byrd, Lu, Nocedal & Zhu,
+  SIAM J. Sci. Comput. 16 (1995) 1190, which works on the box itself) for cost: on HS071 the
+  BFGS program is half the size (2.4k vs 5k StableHLO lines), compiles ~3x faster and runs
+  ~10x faster per solve; both reach the same KKT points (tests run both). Both are
+  fixed-shape ``lax.while_loop``s that jit and vmap.
+* Polish: once an outer iterate has KKT residual ≤ ``polish_start``, the active set is read
+  off (G > −``active_tol`` or λ > 0; variables on a bound) and Newton's method is applied to
+  the KKT equations of that active set (∇L₀ = 0 on free variables, G_A = 0, H = 0,
+  λ_inactive = 0). The Newton point is kept only when it is finite, inside the bounds, keeps
+  the active multipliers ≥ 0, does not raise the violation and lowers the KKT residual;
+  otherwise the augmented-Lagrangian iterations simply continue. Newton converges
+  quadratically (second-order sufficiency, linearly independent active gradients), so
+  multipliers come out to ~1e-12 instead of the ~tol of the AL estimate; the same KKT matrix
+  is the one :mod:`diffsense.optimize.sensitivity` differentiates.
+* Infeasibility: when the outer loop ends with violated constraints (ρ at its cap without
+  progress for 3 iterations, or out of iterations), one restoration solve minimises
+  φ(z) = ½‖max(0, G)‖² + ½‖H‖² over the box from the last iterate (the same inner solver,
+  with the f weight set to 0). Its minimiser is the least-infeasible compromise in scaled
+  units; ``feasible`` tells whether the returned x satisfies every constraint within
+  ``feas_tol``, and ``conflict`` lists the constraints left violated and the bounds that
+  block any further reduction of φ (∂φ/∂z pushes out of the box there): the set of
+  requirements that cannot be met together. The multipliers of an infeasible answer are
+  the last AL estimates, which grow with ρ on the conflicting constraints.
+
+Scaling of the functions (``f_scale="auto"``): s_f = 1/clip(‖∇_z f(z₀)‖∞, 1e-8, 1e8), and per
+constraint s_gᵢ = 1/clip(max(‖∇_z gᵢ(z₀)‖∞, 0.01|gᵢ(z₀)|), 1e-8, 1e8) (likewise h), so a
+scaled constraint value is roughly a distance in scaled variables. ``tol`` and ``feas_tol``
+apply to these scaled quantities; the physical g, h are returned as well. The scales are
+held constant (no derivative flows through them).
+
+Outputs are physical: x is projected onto [lower, upper] (so it never violates a bound) and
+f, g, h, the KKT residual and ``feasible`` are all evaluated at that projected point;
+λ ≥ 0 (inequalities), ν (equalities), bound multipliers μ_lower, μ_upper ≥ 0 with the
+convention ∇f + J_gᵀλ + J_hᵀν − μ_lower + μ_upper = 0. Everything is fixed-shape and
+NaN-free, so ``solve`` can be jitted and vmapped over x0 and θ.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple, Optional
+
+import jax
+import jax.numpy as jnp
+import optimistix as optx
+from jax import lax
+
+from .._checks import check_choice, check_range
+from .problem import Problem, check_start
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Static settings of :func:`solve` (hashable; one jit compilation per distinct value).
+
+    ``tol``: stationarity and complementarity tolerance (scaled, dimensionless).
+    ``feas_tol``: constraint-violation tolerance on the scaled constraints.
+    ``max_outer``/``max_inner``: augmented-Lagrangian and inner-solver iteration caps (the
+    inner cap is kept small: subproblems are warm-started, and under vmap one slow inner
+    solve would hold up the whole batch).
+    ``inner``: "bfgs" (optimistix BFGS over the bounded reparameterisation, default) or
+    "lbfgsb" (jaxopt L-BFGS-B on the box itself).
+    ``penalty_init``, ``penalty_growth``, ``penalty_max``: ρ₀, its growth factor and cap.
+    ``feasibility_reduction``: required decrease factor of V before ρ is left unchanged.
+    ``polish``/``polish_steps``/``polish_start``: active-set Newton refinement of the KKT
+    point, tried in each outer iteration whose KKT residual is below ``polish_start``.
+    ``active_tol``: scaled constraint value above which an inequality counts as active.
+    ``f_scale``: "auto" or a positive number multiplying f; ``constraint_scaling``: scale g, h.
+    ``restore``: run the least-infeasibility solve when the answer is infeasible.
+    """
+
+    tol: float = 1e-8
+    feas_tol: float = 1e-8
+    max_outer: int = 40
+    max_inner: int = 100
+    inner: str = "bfgs"
+    history_size: int = 10
+    penalty_init: float = 10.0
+    penalty_growth: float = 10.0
+    penalty_max: float = 1e8
+    feasibility_reduction: float = 0.25
+    multiplier_max: float = 1e12
+    inner_tol_init: float = 1e-3
+    polish: bool = True
+    polish_steps: int = 4
+    polish_start: float = 1e-3
+    active_tol: float = 1e-6
+    f_scale: object = "auto"
+    constraint_scaling: bool = True
+    restore: bool = True
+
+    def __post_init__(self):
+        check_choice("inner", self.inner, ("lbfgsb", "bfgs"), where="SolverOptions")
+        check_range("tol", self.tol, 0.0, 1.0, lo_open=True, where="SolverOptions")
+        check_range("feas_tol", self.feas_tol, 0.0, 1.0, lo_open=True, where="SolverOptions")
+        check_range("max_outer", self.max_outer, 1, None, where="SolverOptions")
+        check_range("max_inner", self.max_inner, 1, None, where="SolverOptions")
+        check_range("penalty_init", self.penalty_init, 0.0, None, lo_open=True, where="SolverOptions")
+        check_range("penalty_growth", self.penalty_growth, 1.0, None, lo_open=True, where="SolverOptions")
+        check_range("penalty_max", self.penalty_max, self.penalty_init, None, where="SolverOptions")
+        check_range("feasibility_reduction", self.feasibility_reduction, 0.0, 1.0, lo_open=True, hi_open=True,
+                    where="SolverOptions")
+        if self.f_scale != "auto":
+            check_range("f_scale", self.f_scale, 0.0, None, lo_open=True, where="SolverOptions")
+
+
+class KKTResidual(NamedTuple):
+    """Scaled first-order optimality measures at the returned point (all ≥ 0).
+
+    ``stationarity``: ‖P_box(z − ∇_z L₀) − z‖∞, the projected gradient of the scaled Lagrangian;
+    ``feasibility``: max(‖max(G, 0)‖∞, ‖H‖∞); ``complementarity``: ‖min(λ̃, −G)‖∞."""
+
+    stationarity: jax.Array
+    feasibility: jax.Array
+    complementarity: jax.Array
+
+
+class Conflict(NamedTuple):
+    """Masks explaining an infeasible answer (all False when ``feasible``): inequality and
+    equality constraints left violated at the least-infeasible point, and lower/upper bounds
+    that block any further reduction of the violation."""
+
+    inequality: jax.Array
+    equality: jax.Array
+    lower: jax.Array
+    upper: jax.Array
+
+
+class Scales(NamedTuple):
+    """Function scales used internally: F = f·f_scale, G = g⊙g_scale, H = h⊙h_scale."""
+
+    f: jax.Array
+    g: jax.Array
+    h: jax.Array
+
+
+class Result(NamedTuple):
+    """Outcome of :func:`solve` (a pytree; batched along a leading axis under vmap).
+
+    x: solution (units of the variables), always inside [lower, upper].
+    f, g, h: objective, inequality (≤ 0 when feasible) and equality values at x.
+    lam: inequality multipliers λ ≥ 0 (units of f per unit of g; ∂f*/∂b for g ≤ b is −λ).
+    nu: equality multipliers ν (units of f per unit of h).
+    mu_lower, mu_upper: bound multipliers ≥ 0 (units of f per unit of x).
+    converged: KKT residuals within tolerance (stationarity/complementarity ≤ tol, violation
+        ≤ feas_tol). feasible: the returned x satisfies all constraints within feas_tol.
+    kkt: :class:`KKTResidual` (scaled). iterations: outer iterations; inner_iterations: total.
+    penalty: final ρ. polished: the Newton refinement was accepted.
+    conflict: :class:`Conflict` masks. scales: :class:`Scales` used.
+    """
+
+    x: jax.Array
+    f: jax.Array
+    g: jax.Array
+    h: jax.Array
+    lam: jax.Array
+    nu: jax.Array
+    mu_lower: jax.Array
+    mu_upper: jax.Array
+    converged: jax.Array
+    feasible: jax.Array
+    kkt: KKTResidual
+    iterations: jax.Array
+    inner_iterations: jax.Array
+    penalty: jax.Array
+    polished: jax.Array
+    conflict: Conflict
+    scales: Scales
+
+
+# ----------------------------------------------------------------------------- scaled model
+class ScaledModel(NamedTuple):
+    """Scaled objective/constraints of one problem instance (closures over θ and scales)."""
+
+    problem: Problem
+    theta: object
+    scales: Scales
+    zlo: jax.Array
+    zhi: jax.Array
+
+    def FGH(self, z):
+        """(F, G, H) at z in one evaluation of the problem functions."""
+        x = self.problem.from_scaled(z)
+        return (self.scales.f * self.problem.f(x, self.theta),
+                self.scales.g * self.problem.g(x, self.theta),
+                self.scales.h * self.problem.h(x, self.theta))
+
+    def lagrangian(self, z, lam, nu):
+        F, G, H = self.FGH(z)
+        return F + jnp.dot(lam, G) + jnp.dot(nu, H)
+
+    def augmented(self, z, lam, nu, rho, weight_f=1.0):
+        """PHR augmented Lagrangian; with weight_f = 0, λ = ν = 0, ρ = 1 it is φ(z)."""
+        F, G, H = self.FGH(z)
+        eq = jnp.sum(nu * H + 0.5 * rho * H**2)
+        ineq = jnp.sum(jnp.maximum(0.0, lam + rho * G) ** 2 - lam**2) / (2.0 * rho)
+        return weight_f * F + eq + ineq
+
+
+def _safe_inf_norm(v):
+    return jnp.max(jnp.abs(v), initial=0.0)
+
+
+def projected_gradient_norm(z, grad, zlo, zhi):
+    """‖clip(z − ∇, zlo, zhi) − z‖∞ — zero exactly at a box-constrained stationary point."""
+    return _safe_inf_norm(jnp.clip(z - grad, zlo, zhi) - z)
+
+
+def _stack_fgh(problem: Problem, theta, x):
+    return jnp.concatenate([problem.f(x, theta)[None], problem.g(x, theta), problem.h(x, theta)])
+
+
+def _auto_scales(problem: Problem, z0, theta, m: int, p: int, options: SolverOptions) -> Scales:
+    def fgh(z):
+        v = _stack_fgh(problem, theta, problem.from_scaled(z))
+        return v, v
+
+    jac, val = jax.jacfwd(fgh, has_aux=True)(z0)
+    dtype = z0.dtype
+    if options.f_scale == "auto":
+        sf = 1.0 / jnp.clip(_safe_inf_norm(jnp.where(jnp.isfinite(jac[0]), jac[0], 0.0)), 1e-8, 1e8)
+    else:
+        sf = jnp.asarray(options.f_scale, dtype)
+    if options.constraint_scaling and m + p > 0:
+        den = jnp.maximum(jnp.max(jnp.abs(jac[1:]), axis=1), 0.01 * jnp.abs(val[1:]))
+        den = jnp.where(jnp.isfinite(den), den, 1.0)
+        sc = 1.0 / jnp.clip(den, 1e-8, 1e8)
+    else:
+        sc = jnp.ones((m + p,), dtype)
+    return jax.tree_util.tree_map(lax.stop_gradient, Scales(sf, sc[:m], sc[m:]))
+
+
+def make_model(problem: Problem, theta, scales: Scales) -> ScaledModel:
+    zlo, zhi = problem.scaled_bounds()
+    return ScaledModel(problem, theta, scales, zlo, zhi)
+
+
+# ----------------------------------------------------------------------------- inner solvers
+def _inner_lbfgsb(fun, z, zlo, zhi, tol, options: SolverOptions):
+    import warnings
+
+    with warnings.catch_warnings():  # jaxopt announces on import that it is in maintenance mode
+        warnings.simplefilter("ignore", DeprecationWarning)
+        from jaxopt import LBFGSB
+
+    solver = LBFGSB(
+        fun=fun,
+        tol=tol,
+        maxiter=options.max_inner,
+        history_size=options.history_size,
+        implicit_diff=False,
+        unroll=False,
+        jit=True,
+        stop_if_linesearch_fails=True,
+    )
+    out = solver.run(z, (zlo, zhi))
+    return out.params, out.state.iter_num
+
+
+def _reparam(zlo, zhi):
+    """Smooth surjection y ↦ z onto the box and a right inverse (module docstring)."""
+    flo = jnp.isfinite(zlo)
+    fhi = jnp.isfinite(zhi)
+    both = flo & fhi
+    lo_s = jnp.where(flo, zlo, 0.0)
+    hi_s = jnp.where(fhi, zhi, 0.0)
+    c = 0.5 * (lo_s + hi_s)
+    r = 0.5 * (hi_s - lo_s)
+    r_safe = jnp.where(r > 0, r, 1.0)
+
+    def forward(y):
+        two = c + r * jnp.sin(y)
+        low = lo_s + y**2
+        high = hi_s - y**2
+        return jnp.where(both, two, jnp.where(flo, low, jnp.where(fhi, high, y)))
+
+    def inverse(z):
+        # start slightly off the bounds, where dz/dy = 0 would stall a gradient method
+        u = jnp.clip((z - c) / r_safe, -1.0 + 1e-6, 1.0 - 1e-6)
+        two = jnp.where(r > 0, jnp.arcsin(u), 0.0)
+        low = jnp.sqrt(jnp.maximum(z - lo_s, 1e-12))
+        high = jnp.sqrt(jnp.maximum(hi_s - z, 1e-12))
+        return jnp.where(both, two, jnp.where(flo, low, jnp.where(fhi, high, z)))
+
+    return forward, inverse
+
+
+def _inner_bfgs(fun, z, zlo, zhi, tol, options: SolverOptions):
+    forward, inverse = _reparam(zlo, zhi)
+    # optimistix stops on small steps and small f changes (Cauchy test), not on the gradient;
+    # a 10x tighter test brings the projected gradient below ``tol`` on well-scaled problems
+    solver = optx.BFGS(rtol=0.1 * tol, atol=0.1 * tol)
+    sol = optx.minimise(lambda y, _: fun(forward(y)), solver, inverse(z), None,
+                        max_steps=options.max_inner, throw=False)
+    znew = jnp.clip(forward(sol.value), zlo, zhi)
+    return znew, sol.stats["num_steps"]
+
+
+def _inner(fun, z, zlo, zhi, tol, options):
+    if options.inner == "lbfgsb":
+        return _inner_lbfgsb(fun, z, zlo, zhi, tol, options)
+    return _inner_bfgs(fun, z, zlo, zhi, tol, options)
+
+
+# ----------------------------------------------------------------------------- KKT machinery
+def _kkt_from(z, grad, G, H, lam, zlo, zhi) -> KKTResidual:
+    stat = projected_gradient_norm(z, grad, zlo, zhi)
+    feas = jnp.maximum(_safe_inf_norm(jnp.maximum(G, 0.0)), _safe_inf_norm(H))
+    comp = _safe_inf_norm(jnp.minimum(lam, -G))
+    return KKTResidual(stat, feas, comp)
+
+
+def kkt_measures(model: ScaledModel, z, lam, nu) -> KKTResidual:
+    """Scaled stationarity, feasibility and complementarity at (z, λ̃, ν̃)."""
+    (_, (G, H)), grad = jax.value_and_grad(
+        lambda zz: (lambda F, G, H: (F + jnp.dot(lam, G) + jnp.dot(nu, H), (G, H)))(*model.FGH(zz)),
+        has_aux=True)(z)
+    return _kkt_from(z, grad, G, H, lam, model.zlo, model.zhi)
+
+
+def bound_activity(zlo, zhi, z, grad):
+    """Masks of variables held at their lower/upper bound (z on the bound, gradient pushing out)."""
+    tol_lo = 1e-9 * (1.0 + jnp.abs(jnp.where(jnp.isfinite(zlo), zlo, 0.0)))
+    tol_hi = 1e-9 * (1.0 + jnp.abs(jnp.where(jnp.isfinite(zhi), zhi, 0.0)))
+    at_lo = (z - zlo <= tol_lo) & (grad >= 0.0)
+    at_hi = (zhi - z <= tol_hi) & (grad <= 0.0)
+    return at_lo, at_hi
+
+
+def kkt_equations(model: ScaledModel, active, at_lo, at_hi, z, lam, nu):
+    """Residual of the active-set KKT equations in scaled coordinates (fixed shape n + m + p).
+
+    Rows: ∇_z L₀ for free variables (z − bound for variables fixed at a bound); G_i for active
+    inequalities (λ̃_i for inactive ones, which pins them to 0); H."""
+
+    def lag(zz):
+        F, G, H = model.FGH(zz)
+        return F + jnp.dot(lam, G) + jnp.dot(nu, H), (G, H)
+
+    grad, (G, H) = jax.grad(lag, has_aux=True)(z)
+    zb = jnp.where(at_lo, model.zlo, jnp.where(at_hi, model.zhi, z))
+    zb = jnp.where(jnp.isfinite(zb), zb, 0.0)
+    r_z = jnp.where(at_lo | at_hi, z - zb, grad)
+    r_l = jnp.where(active, G, lam)
+    return jnp.concatenate([r_z, r_l, H])
+
+
+def active_set(G, lam, options: SolverOptions):
+    """Inequalities treated as active: scaled value above −active_tol or a positive multiplier
+    (in the augmented Lagrangian λ > 0 exactly when G > −λ_prev/ρ, i.e. the constraint acted
+    in the last subproblem)."""
+    return (G > -options.active_tol) | (lam > 0.0)
+
+
+def _kkt_newton(model: ScaledModel, z, lam, nu, grad, G, options: SolverOptions):
+    """Newton iterations on the active-set KKT equations; returns the candidate and a flag."""
+    n, m = z.shape[0], lam.shape[0]
+    at_lo, at_hi = bound_activity(model.zlo, model.zhi, z, grad)
+    active = active_set(G, lam, options)
+
+    def eqs(s):
+        r = kkt_equations(model, active, at_lo, at_hi, s[:n], s[n:n + m], s[n + m:])
+        return r, r
+
+    def step(_, s):
+        J, r = jax.jacfwd(eqs, has_aux=True)(s)
+        d = jnp.linalg.solve(J, -r)
+        s_new = s + d
+        return jnp.where(jnp.all(jnp.isfinite(s_new)), s_new, s)
+
+    s0 = jnp.concatenate([z, lam, nu])
+    s = lax.fori_loop(0, options.polish_steps, step, s0)
+    z_p, lam_p, nu_p = s[:n], s[n:n + m], s[n + m:]
+    slack_lo = 1e-12 * (1 + jnp.abs(jnp.where(jnp.isfinite(model.zlo), model.zlo, 0.0)))
+    slack_hi = 1e-12 * (1 + jnp.abs(jnp.where(jnp.isfinite(model.zhi), model.zhi, 0.0)))
+    ok = jnp.all(jnp.isfinite(s))
+    ok &= jnp.all(z_p >= model.zlo - slack_lo) & jnp.all(z_p <= model.zhi + slack_hi)
+    ok &= jnp.all(jnp.where(active, lam_p >= -options.tol, True))
+    z_p = jnp.clip(z_p, model.zlo, model.zhi)
+    lam_p = jnp.where(active, jnp.maximum(lam_p, 0.0), 0.0)
+    return jnp.where(ok, z_p, z), jnp.where(ok, lam_p, lam), jnp.where(ok, nu_p, nu), ok
+
+
+def _kkt_max(k: KKTResidual):
+    return jnp.maximum(jnp.maximum(k.stationarity, k.feasibility), k.complementarity)
+
+
+def _converged(k: KKTResidual, options: SolverOptions):
+    return (k.stationarity <= options.tol) & (k.feasibility <= options.feas_tol) & (k.complementarity <= options.tol)
+
+
+class _Final(NamedTuple):
+    x: jax.Array
+    f: jax.Array
+    g: jax.Array
+    h: jax.Array
+    lam: jax.Array
+    nu: jax.Array
+    mu_lower: jax.Array
+    mu_upper: jax.Array
+    kkt: KKTResidual
+    grad_phi: jax.Array
+    G: jax.Array
+    H: jax.Array
+
+
+def _final_evaluation(problem: Problem, theta, scales: Scales, zlo, zhi, z, lam, nu) -> _Final:
+    """Physical outputs at z: x clipped into the bounds, f, g, h, physical multipliers, bound
+    multipliers, the scaled KKT residual and ∇_z φ — one linearisation of the problem functions."""
+    x = problem.clip(problem.from_scaled(z))
+    x = jnp.where(z <= zlo, problem.lower, jnp.where(z >= zhi, problem.upper, x))
+    dxdz = jnp.where(problem.log_scale, x, problem.scale)
+    (f, g, h), vjp = jax.vjp(lambda xx: (problem.f(xx, theta), problem.g(xx, theta), problem.h(xx, theta)), x)
+    lam_p = lam * scales.g / scales.f
+    nu_p = nu * scales.h / scales.f
+    G = scales.g * g
+    H = scales.h * h
+    one = jnp.ones_like(f)
+    cot = (jnp.stack([one, 0.0 * one]),
+           jnp.stack([lam_p, scales.g * jnp.maximum(G, 0.0)]),
+           jnp.stack([nu_p, scales.h * H]))
+    (grads,) = jax.vmap(vjp)(cot)
+    grads = jnp.where(jnp.isfinite(grads), grads, 0.0)
+    r_x, gphi_x = grads[0], grads[1]
+    grad_z = scales.f * dxdz * r_x
+    kkt = _kkt_from(z, grad_z, G, H, lam, zlo, zhi)
+    on_lo = x <= problem.lower
+    on_hi = (x >= problem.upper) & ~on_lo
+    mu_lo = jnp.where(on_lo, jnp.maximum(r_x, 0.0), 0.0)
+    mu_hi = jnp.where(on_hi, jnp.maximum(-r_x, 0.0), 0.0)
+    return _Final(x, f, g, h, lam_p, nu_p, mu_lo, mu_hi, kkt, dxdz * gphi_x, G, H)
+
+
+# ----------------------------------------------------------------------------- main solve
+_AL, _RESTORE, _DONE = 0, 1, 2
+
+
+class _State(NamedTuple):
+    k: jax.Array
+    z: jax.Array
+    lam: jax.Array
+    nu: jax.Array
+    rho: jax.Array
+    v_prev: jax.Array
+    eps: jax.Array
+    inner_total: jax.Array
+    stall: jax.Array
+    phase: jax.Array
+    restored: jax.Array
+    polished: jax.Array
+
+
+def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptions()) -> Result:
+    """Minimise ``problem`` from ``x0`` (units of the variables) at parameters ``theta``.
+
+    Augmented-Lagrangian outer loop over a bounded inner solve with an active-set Newton
+    polish once the KKT residual is below ``polish_start``, and a least-infeasibility
+    restoration when the loop ends infeasible (module docstring). Pure and fixed-shape: jit
+    it, vmap it over ``x0`` and ``theta``. Returns a :class:`Result`; ``x`` lies inside
+    [lower, upper] whatever happens. Local method: the answer is a KKT point reached from
+    ``x0`` (see :mod:`diffsense.optimize.multistart` for several starts).
+    """
+    check_start(problem, x0)
+    dtype = jnp.result_type(float)
+    x0 = problem.clip(jnp.asarray(x0, dtype=dtype))
+    zlo, zhi = problem.scaled_bounds()
+    z0 = jnp.clip(problem.to_scaled(x0), zlo, zhi)
+    m, p = problem.constraint_sizes(theta)
+    scales = _auto_scales(problem, z0, theta, m, p, options)
+    model = make_model(problem, theta, scales)
+    unconstrained = (m + p) == 0
+    can_restore = options.restore and not unconstrained
+
+    eps0 = options.tol if unconstrained else max(options.tol, options.inner_tol_init)
+    state = _State(
+        k=jnp.asarray(0),
+        z=z0,
+        lam=jnp.zeros((m,), dtype),
+        nu=jnp.zeros((p,), dtype),
+        rho=jnp.asarray(options.penalty_init, dtype),
+        v_prev=jnp.asarray(jnp.inf, dtype),
+        eps=jnp.asarray(eps0, dtype),
+        inner_total=jnp.asarray(0),
+        stall=jnp.asarray(0),
+        phase=jnp.asarray(_AL),
+        restored=jnp.asarray(False),
+        polished=jnp.asarray(False),
+    )
+
+    def polish(args):
+        z, lam, nu, grad, G = args
+        z_p, lam_p, nu_p, ok = _kkt_newton(model, z, lam, nu, grad, G, options)
+        return z_p, lam_p, nu_p, ok, kkt_measures(model, z_p, lam_p, nu_p)
+
+    def no_polish(args):
+        z, lam, nu, _, _ = args
+        inf = jnp.asarray(jnp.inf, dtype)
+        return z, lam, nu, jnp.asarray(False), KKTResidual(inf, inf, inf)
+
+    def cond(s: _State):
+        return (s.phase != _DONE) & (s.k < options.max_outer + 1)
+
+    def body(s: _State):
+        restoring = s.phase == _RESTORE
+        lam_e = jnp.where(restoring, 0.0, s.lam)
+        nu_e = jnp.where(restoring, 0.0, s.nu)
+        rho_e = jnp.where(restoring, 1.0, s.rho)
+        w_f = jnp.where(restoring, 0.0, 1.0)
+        eps_e = jnp.where(restoring, options.tol * 1e-2, s.eps)
+        fun = lambda z: model.augmented(z, lam_e, nu_e, rho_e, w_f)  # noqa: E731
+        z_new, its = _inner(fun, s.z, zlo, zhi, eps_e, options)
+        finite = jnp.all(jnp.isfinite(z_new)) & jnp.isfinite(fun(z_new))
+        z_new = jnp.where(finite, z_new, s.z)
+
+        (F, G, H), vjp = jax.vjp(model.FGH, z_new)
+        v = jnp.maximum(_safe_inf_norm(jnp.maximum(G, -s.lam / s.rho)), _safe_inf_norm(H))
+        lam = jnp.clip(s.lam + s.rho * G, 0.0, options.multiplier_max)
+        nu = jnp.clip(s.nu + s.rho * H, -options.multiplier_max, options.multiplier_max)
+        (grad,) = vjp((jnp.ones_like(F), lam, nu))
+        kkt = _kkt_from(z_new, grad, G, H, lam, zlo, zhi)
+
+        slow = v > options.feasibility_reduction * s.v_prev
+        rho = jnp.where(slow & (v > options.feas_tol),
+                        jnp.minimum(s.rho * options.penalty_growth, options.penalty_max), s.rho)
+        at_cap = s.rho >= options.penalty_max
+        stall = jnp.where(at_cap & (v >= 0.99 * s.v_prev) & (v > options.feas_tol), s.stall + 1, 0)
+
+        polished = jnp.asarray(False)
+        if options.polish:
+            near = (_kkt_max(kkt) <= options.polish_start) & finite & ~restoring
+            z_p, lam_p, nu_p, ok, kkt_p = lax.cond(near, polish, no_polish, (z_new, lam, nu, grad, G))
+            polished = (ok & near & (_kkt_max(kkt_p) <= _kkt_max(kkt))
+                        & (kkt_p.feasibility <= jnp.maximum(kkt.feasibility, options.feas_tol)))
+            z_new = jnp.where(polished, z_p, z_new)
+            lam = jnp.where(polished, lam_p, lam)
+            nu = jnp.where(polished, nu_p, nu)
+            kkt = jax.tree_util.tree_map(lambda a, b: jnp.where(polished, a, b), kkt_p, kkt)
+
+        conv = _converged(kkt, options)
+        out_of_iters = s.k + 1 >= options.max_outer
+        ended = conv | (stall >= 3) | out_of_iters | ~finite
+        infeasible_end = ended & ~conv & (kkt.feasibility > options.feas_tol) & finite
+        next_phase = jnp.where(ended, jnp.where(infeasible_end & can_restore, _RESTORE, _DONE), _AL)
+        eps = jnp.maximum(options.tol, s.eps * 0.01)
+        al_state = _State(s.k + 1, z_new, lam, nu, rho, v, eps, s.inner_total + its, stall, next_phase,
+                          s.restored, polished)
+
+        # restoration step (φ minimisation): keep it only if it lowers the violation
+        G_old, H_old = model.FGH(s.z)[1:]
+        viol_old = jnp.maximum(_safe_inf_norm(jnp.maximum(G_old, 0.0)), _safe_inf_norm(H_old))
+        keep = kkt.feasibility <= viol_old
+        res_state = _State(s.k + 1, jnp.where(keep, z_new, s.z), s.lam, s.nu, s.rho, s.v_prev, s.eps,
+                           s.inner_total + its, s.stall, jnp.asarray(_DONE), keep, jnp.asarray(False))
+        return jax.tree_util.tree_map(lambda a, b: jnp.where(restoring, a, b), res_state, al_state)
+
+    state = lax.while_loop(cond, body, state)
+    z, lam, nu = state.z, state.lam, state.nu
+    final = _final_evaluation(problem, theta, scales, zlo, zhi, z, lam, nu)
+
+    feasible = final.kkt.feasibility <= options.feas_tol
+    converged = _converged(final.kkt, options)
+    blo, bhi = bound_activity(zlo, zhi, z, final.grad_phi)
+    small = 1e-3 * options.feas_tol
+    conflict = Conflict(
+        inequality=(~feasible) & (final.G > options.feas_tol),
+        equality=(~feasible) & (jnp.abs(final.H) > options.feas_tol),
+        lower=(~feasible) & blo & (final.grad_phi > small),
+        upper=(~feasible) & bhi & (final.grad_phi < -small),
+    )
+    return Result(
+        x=final.x, f=final.f, g=final.g, h=final.h, lam=final.lam, nu=final.nu,
+        mu_lower=final.mu_lower, mu_upper=final.mu_upper, converged=converged, feasible=feasible,
+        kkt=final.kkt, iterations=state.k, inner_iterations=state.inner_total, penalty=state.rho,
+        polished=state.polished, conflict=conflict, scales=scales,
+    )
+
+
+_COMPILE_PRESETS = {
+    # disabling XLA:CPU's fusion emitters cuts compile time of these loop-heavy programs by
+    # ~40 % at equal run time; optimisation level 0 cuts it ~3x more at ~1.5x run time
+    "optimized": {"xla_cpu_use_fusion_emitters": False},
+    "fast": {"xla_cpu_use_fusion_emitters": False, "xla_backend_optimization_level": 0},
+    "default": {},
+}
+_ACCEPTED: dict = {}
+
+
+def compiler_options(preset: str = "optimized") -> dict:
+    """XLA compiler options of a preset ("optimized", "fast" or "default"), or {} when the
+    installed jaxlib rejects them (checked once on a trivial program)."""
+    check_choice("preset", preset, tuple(_COMPILE_PRESETS), where="compiler_options")
+    if preset not in _ACCEPTED:
+        opts = _COMPILE_PRESETS[preset]
+        try:
+            jax.jit(lambda a: a + 1.0).lower(1.0).compile(compiler_options=opts) if opts else None
+            _ACCEPTED[preset] = dict(opts)
+        except Exception:  # an older/newer XLA without these flags: compile with defaults
+            _ACCEPTED[preset] = {}
+    return dict(_ACCEPTED[preset])
+
+
+def make_solver(problem: Problem, options: SolverOptions = SolverOptions(), *, batched: bool = False,
+                compile: str = "optimized"):
+    """A jitted ``fn(x0, theta=None) -> Result`` for ``problem`` (compiled once per input shape).
+
+    With ``batched=True`` it is vmapped over a leading axis of ``x0`` and of every leaf of
+    ``theta`` (``theta=None`` for problems without parameters). ``compile`` picks XLA options:
+    "optimized" (default), "fast" (quicker compilation, slower run; for tests and one-off
+    solves) or "default" (XLA's own)."""
+
+    def run(x0, theta=None):
+        return solve(problem, x0, theta, options)
+
+    fn = run
+    if batched:
+        def run_batch(x0, theta=None):
+            if theta is None:
+                return jax.vmap(lambda x: run(x, None))(x0)
+            return jax.vmap(run)(x0, theta)
+        fn = run_batch
+    return jax.jit(fn, compiler_options=compiler_options(compile))
+
+
+def violation(result: Result) -> jax.Array:
+    """Largest physical constraint violation max(max(g, 0), |h|) of a result (units of g, h)."""
+    return jnp.maximum(_safe_inf_norm(jnp.maximum(result.g, 0.0)), _safe_inf_norm(result.h))
+
+
+__all__ = [
+    "SolverOptions", "Result", "KKTResidual", "Conflict", "Scales", "ScaledModel",
+    "solve", "make_solver", "make_model", "kkt_measures", "kkt_equations", "active_set",
+    "bound_activity", "projected_gradient_norm", "violation", "compiler_options",
+]

@@ -1,0 +1,212 @@
+"""The constrained design problem and its scaled coordinates.
+
+A :class:`Problem` states
+
+    minimise  f(x, θ)
+    subject to g(x, θ) ≤ 0        (vector, m entries; may be absent)
+               h(x, θ) = 0        (vector, p entries; may be absent)
+               lower ≤ x ≤ upper  (elementwise, ±inf allowed)
+
+over x ∈ Rⁿ, where θ is any pytree of fixed parameters (requirement limits, ranges, ...) that
+the solution is later differentiated against (:mod:`diffsense.optimize.sensitivity`).
+
+Variable scaling
+----------------
+Sensor variables span many decades at once (a pulse width of 1e-9 s next to a peak power of
+1e6 W), so the solvers never work in x. Each variable gets a positive typical magnitude
+``scale`` sᵢ (units of xᵢ) and is mapped to a dimensionless coordinate zᵢ:
+
+    linear:  zᵢ = xᵢ / sᵢ            xᵢ = sᵢ zᵢ
+    log:     zᵢ = ln(xᵢ / sᵢ)        xᵢ = sᵢ exp(zᵢ)     (needs lowerᵢ > 0)
+
+The log map suits positive quantities whose useful range spans decades (powers, bandwidths,
+apertures): a unit step in z is then a relative change of e in x. Bounds map monotonically,
+so the box stays a box in z and projecting z onto it projects x onto [lower, upper].
+
+Default scales: a log variable with both bounds finite gets the geometric mean √(lo·hi) (its
+z-box is then symmetric about 0), otherwise its finite lower bound; a linear variable gets
+max(|lo|, |hi|) over its finite bounds (1 when that is 0 or no bound is finite). Give
+``scale`` explicitly when the bounds say little about the typical size.
+
+Integer variables (``integer``) are solved as continuous relaxations and rounded by
+:mod:`diffsense.optimize.integer`; the continuous solvers ignore the flag.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable, Optional, Sequence
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .._checks import DomainError, check_range, is_concrete
+
+
+def _as_vector(value, n: int, name: str, dtype=float) -> np.ndarray:
+    a = np.asarray(value, dtype=dtype)
+    if a.ndim == 0:
+        a = np.full((n,), a, dtype=dtype)
+    if a.shape != (n,):
+        raise DomainError(f"Problem: '{name}' must be a scalar or have shape ({n},); got shape {a.shape}")
+    return a
+
+
+class Problem(eqx.Module):
+    """A bound- and inequality/equality-constrained minimisation problem (see module doc).
+
+    Arguments
+    ---------
+    objective: ``f(x, theta) -> scalar`` (any units; a cost, an error variance, ...).
+    lower, upper: bounds on x in the units of each variable, shape (n,) or scalar; ±inf allowed;
+        lower ≤ upper (equal bounds fix a variable).
+    inequality: optional ``g(x, theta) -> (m,)``, feasible where every entry is ≤ 0.
+    equality: optional ``h(x, theta) -> (p,)``, feasible where every entry is 0.
+    scale: typical magnitude of each variable, in its units (> 0); default from the bounds.
+    log_scale: bool or (n,) bools; True solves that variable in ln(x/scale) (requires lower > 0).
+    integer: bool or (n,) bools marking integer variables (used by ``solve_mixed_integer``).
+    names: optional variable names, used in reports.
+
+    The functions must be pure JAX functions, finite with finite gradients inside the bounds.
+    """
+
+    objective: Callable = eqx.field(static=True)
+    inequality: Optional[Callable] = eqx.field(static=True)
+    equality: Optional[Callable] = eqx.field(static=True)
+    lower: jax.Array
+    upper: jax.Array
+    scale: jax.Array
+    log_scale: jax.Array
+    integer_indices: tuple = eqx.field(static=True)
+    names: Optional[tuple] = eqx.field(static=True)
+
+    def __init__(
+        self,
+        objective: Callable,
+        lower,
+        upper,
+        *,
+        inequality: Optional[Callable] = None,
+        equality: Optional[Callable] = None,
+        scale=None,
+        log_scale=False,
+        integer=False,
+        names: Optional[Sequence[str]] = None,
+    ):
+        lo = np.atleast_1d(np.asarray(lower, dtype=float))
+        hi = np.atleast_1d(np.asarray(upper, dtype=float))
+        n = max(lo.size, hi.size)
+        lo = _as_vector(lo if lo.size > 1 else lo.reshape(()), n, "lower")
+        hi = _as_vector(hi if hi.size > 1 else hi.reshape(()), n, "upper")
+        if np.any(np.isnan(lo)) or np.any(np.isnan(hi)):
+            raise DomainError("Problem: bounds must not be NaN")
+        if np.any(lo > hi):
+            i = int(np.argmax(lo > hi))
+            raise DomainError(f"Problem: lower[{i}] = {lo[i]!r} exceeds upper[{i}] = {hi[i]!r}")
+        if np.any(lo == np.inf) or np.any(hi == -np.inf):
+            raise DomainError("Problem: lower may not be +inf and upper may not be -inf")
+        logm = _as_vector(log_scale, n, "log_scale", dtype=bool)
+        if np.any(logm & ~(lo > 0)):
+            i = int(np.argmax(logm & ~(lo > 0)))
+            raise DomainError(f"Problem: log-scaled variable {i} needs lower > 0; got lower = {lo[i]!r}")
+        if scale is None:
+            s = np.ones(n)
+            both = np.isfinite(lo) & np.isfinite(hi)
+            for i in range(n):
+                if logm[i]:
+                    s[i] = np.sqrt(lo[i] * hi[i]) if both[i] else lo[i]
+                else:
+                    mags = [abs(v) for v in (lo[i], hi[i]) if np.isfinite(v)]
+                    m = max(mags) if mags else 0.0
+                    s[i] = m if m > 0 else 1.0
+        else:
+            s = _as_vector(scale, n, "scale")
+            check_range("scale", s, 0.0, None, lo_open=True, where="Problem")
+            if not np.all(np.isfinite(s)):
+                raise DomainError("Problem: 'scale' must be finite")
+        intm = _as_vector(integer, n, "integer", dtype=bool)
+        if names is not None:
+            names = tuple(str(v) for v in names)
+            if len(names) != n:
+                raise DomainError(f"Problem: {len(names)} names for {n} variables")
+        self.objective = objective
+        self.inequality = inequality
+        self.equality = equality
+        self.lower = jnp.asarray(lo)
+        self.upper = jnp.asarray(hi)
+        self.scale = jnp.asarray(s)
+        self.log_scale = jnp.asarray(logm)
+        self.integer_indices = tuple(int(i) for i in np.flatnonzero(intm))
+        self.names = names
+
+    # ------------------------------------------------------------------ sizes
+    @property
+    def n(self) -> int:
+        """Number of variables."""
+        return int(self.lower.shape[-1])
+
+    def constraint_sizes(self, theta=None) -> tuple[int, int]:
+        """(m, p): numbers of inequality and equality constraints (static, from shapes)."""
+        x = jax.ShapeDtypeStruct((self.n,), jnp.result_type(float))
+        m = 0 if self.inequality is None else int(np.prod(jax.eval_shape(self.inequality, x, theta).shape))
+        p = 0 if self.equality is None else int(np.prod(jax.eval_shape(self.equality, x, theta).shape))
+        return m, p
+
+    # ------------------------------------------------------- function values
+    def f(self, x, theta=None):
+        """Objective value f(x, θ) as a scalar array."""
+        return jnp.reshape(jnp.asarray(self.objective(x, theta), dtype=x.dtype), ())
+
+    def g(self, x, theta=None):
+        """Inequality values g(x, θ), shape (m,) (empty when there are none)."""
+        if self.inequality is None:
+            return jnp.zeros((0,), dtype=x.dtype)
+        return jnp.reshape(jnp.asarray(self.inequality(x, theta), dtype=x.dtype), (-1,))
+
+    def h(self, x, theta=None):
+        """Equality values h(x, θ), shape (p,) (empty when there are none)."""
+        if self.equality is None:
+            return jnp.zeros((0,), dtype=x.dtype)
+        return jnp.reshape(jnp.asarray(self.equality(x, theta), dtype=x.dtype), (-1,))
+
+    # ------------------------------------------------------ scaled coordinates
+    def from_scaled(self, z):
+        """x(z): sᵢ zᵢ for linear variables, sᵢ exp(zᵢ) for log variables."""
+        zl = jnp.where(self.log_scale, z, 0.0)  # keeps exp finite in the unused branch
+        return jnp.where(self.log_scale, self.scale * jnp.exp(zl), self.scale * z)
+
+    def to_scaled(self, x):
+        """z(x), the inverse of :meth:`from_scaled` (x must be > 0 for log variables)."""
+        xl = jnp.where(self.log_scale, x, self.scale)
+        return jnp.where(self.log_scale, jnp.log(xl / self.scale), x / self.scale)
+
+    def scaled_bounds(self):
+        """(zlo, zhi), the bounds in scaled coordinates (±inf kept)."""
+        lo_l = jnp.where(self.log_scale, self.lower, self.scale)
+        hi_l = jnp.where(self.log_scale, self.upper, self.scale)
+        zlo = jnp.where(self.log_scale, jnp.log(lo_l / self.scale), self.lower / self.scale)
+        zhi = jnp.where(self.log_scale, jnp.log(hi_l / self.scale), self.upper / self.scale)
+        return zlo, zhi
+
+    def clip(self, x):
+        """x projected onto [lower, upper]."""
+        return jnp.clip(x, self.lower, self.upper)
+
+    def with_bounds(self, lower, upper) -> "Problem":
+        """The same problem with other bounds (arrays may be traced, e.g. under vmap)."""
+        return eqx.tree_at(lambda p: (p.lower, p.upper), self, (jnp.asarray(lower, float), jnp.asarray(upper, float)))
+
+
+def check_start(problem: Problem, x0, where: str = "solve") -> None:
+    """Domain check of a concrete starting point: shape (..., n) and finite."""
+    if not is_concrete(x0):
+        return
+    a = np.asarray(x0, dtype=float)
+    if a.shape[-1:] != (problem.n,):
+        raise DomainError(f"{where}: x0 must have trailing shape ({problem.n},); got {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise DomainError(f"{where}: x0 must be finite")
+
+
+Theta = Any

@@ -14,12 +14,8 @@ References used by the assertions:
   numpy from the inputs).
 """
 
-import functools
 import math
 
-import jax
-import jax.numpy as jnp
-import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -30,6 +26,8 @@ from diffsense import noise, sonar
 from diffsense._checks import DomainError
 from diffsense.chain import evaluate
 from diffsense.scene import Scene
+
+from _function_checks import assert_argument_case, assert_argument_gradient_finite
 
 # -------------------------------------------------------------------------------------------
 # Book values (§12.8)
@@ -279,45 +277,18 @@ _CASES = {
 }
 
 
-def _with(args, i, x):
-    out = list(args)
-    out[i] = x
-    return tuple(out)
-
-
-@functools.lru_cache(maxsize=None)
-def _compiled(name):
-    """(jitted f(x), jitted df/dx, jitted vmapped f) of the case's argument i, compiled once."""
-    fn, args, i, _ = _CASES[name]
-
-    def f(x):
-        return fn(*_with(args, i, x))
-
-    return jax.jit(f), jax.jit(jax.grad(f)), jax.jit(jax.vmap(f))
-
-
 @pytest.mark.parametrize("name", sorted(_CASES))
 def test_jit_vmap_and_gradient_match(name):
     fn, args, i, _ = _CASES[name]
-    f_jit, g_jit, f_vmap = _compiled(name)
-    eager = float(fn(*args))
-    assert float(f_jit(jnp.float64(args[i]))) == pytest.approx(eager, rel=1e-12)
-    xs = np.array([args[i] * 0.5, args[i], args[i] * 0.9])
-    for x, b in zip(xs, np.asarray(f_vmap(jnp.asarray(xs)))):
-        assert b == pytest.approx(float(fn(*_with(args, i, x))), rel=1e-12)
-    g = float(g_jit(jnp.float64(args[i])))
-    h = 1e-6 * abs(args[i])
-    fd = (float(fn(*_with(args, i, args[i] + h))) - float(fn(*_with(args, i, args[i] - h)))) / (2 * h)
-    assert g == pytest.approx(fd, rel=1e-6, abs=1e-9 * max(1.0, abs(eager)))
+    assert_argument_case(fn, args, i)
 
 
 @pytest.mark.parametrize("name", sorted(_CASES))
 @settings(max_examples=30, deadline=None)
 @given(u=st.floats(0.0, 1.0))
 def test_gradient_finite_over_domain(name, u):
-    _, _, _, (lo, hi) = _CASES[name]
-    x = math.exp(math.log(lo) + u * (math.log(hi) - math.log(lo))) if lo > 0 else lo + u * (hi - lo)
-    assert np.isfinite(float(_compiled(name)[1](jnp.float64(x))))
+    fn, args, i, (lo, hi) = _CASES[name]
+    assert_argument_gradient_finite(fn, args, i, lo, hi, u)
 
 
 @pytest.mark.parametrize(

@@ -16,8 +16,6 @@ References used by the assertions:
 
 import math
 
-import jax
-import jax.numpy as jnp
 import mpmath as mp
 import numpy as np
 import pytest
@@ -29,7 +27,8 @@ from diffsense import waveforms as wf
 from diffsense._checks import DomainError
 from diffsense.constants import SPEED_OF_LIGHT_M_S
 
-from _function_checks import check_grad_vs_fd, jitted, point
+from _function_checks import (assert_gradient_finite, assert_gradient_matches_fd, assert_jit_matches_eager,
+                              assert_out_of_domain_raises, assert_vmap_matches_loop)
 
 BOOK_C = 3e8  # the book rounds c to 3e8 m/s
 SEA_C = 1522.0  # the book's sound speed for the side-scan sonar (§12.7)
@@ -80,52 +79,29 @@ IDS = [s[0] for s in SPECS]
 
 @pytest.mark.parametrize("spec", SPECS, ids=IDS)
 def test_jit_matches_eager(spec):
-    name, fn, domain, _ = spec
-    args = point(domain, [0.37] * len(domain))
-    eager = float(fn(*args))
-    assert math.isfinite(eager)
-    fn_j, _ = jitted(name, fn, len(domain))
-    assert float(fn_j(*args)) == pytest.approx(eager, rel=1e-13, abs=1e-300)
+    assert_jit_matches_eager(spec, rel=1e-13, atol=1e-300)
 
 
 @pytest.mark.parametrize("spec", SPECS, ids=IDS)
 def test_vmap_matches_loop(spec):
-    name, fn, domain, _ = spec
-    rows = [point(domain, [u] * len(domain)) for u in (0.1, 0.5, 0.9)]
-    cols = [jnp.asarray([r[i] for r in rows]) for i in range(len(domain))]
-    batched = jax.vmap(fn)(*cols)
-    np.testing.assert_allclose(np.asarray(batched), [float(fn(*r)) for r in rows], rtol=1e-13)
-    # plain broadcasting of arrays gives the same numbers
-    np.testing.assert_allclose(np.asarray(fn(*cols)), np.asarray(batched), rtol=1e-13)
+    assert_vmap_matches_loop(spec, rtol=1e-13, broadcast=True)
 
 
 @pytest.mark.parametrize("spec", SPECS, ids=IDS)
 def test_gradient_matches_central_difference(spec):
-    name, fn, domain, _ = spec
-    fn_j, grad_j = jitted(name, fn, len(domain))
-    for u in (0.23, 0.61):
-        check_grad_vs_fd(fn_j, grad_j, point(domain, [u] * len(domain)), domain, value_floor=1e-300)
+    assert_gradient_matches_fd(spec, value_floor=1e-300)
 
 
 @pytest.mark.parametrize("spec", SPECS, ids=IDS)
 @settings(max_examples=30, deadline=None)
 @given(data=st.data())
 def test_gradient_finite_over_domain(spec, data):
-    name, fn, domain, _ = spec
-    fn_j, grad_j = jitted(name, fn, len(domain))
-    args = point(domain, [data.draw(st.floats(0.0, 1.0)) for _ in domain])
-    check_grad_vs_fd(fn_j, grad_j, args, domain, rtol=1e-5, value_floor=1e-300)
+    assert_gradient_finite(spec, [data.draw(st.floats(0.0, 1.0)) for _ in spec[2]], value_floor=1e-300)
 
 
 @pytest.mark.parametrize("spec", SPECS, ids=IDS)
 def test_out_of_domain_raises(spec):
-    _, fn, domain, bad = spec
-    args = point(domain, [0.5] * len(domain))
-    for i, value in bad:
-        a = list(args)
-        a[i] = value
-        with pytest.raises(DomainError):
-            fn(*a)
+    assert_out_of_domain_raises(spec)
 
 
 # --------------------------------------------------------------------------------------------

@@ -278,28 +278,27 @@ _FAMILY_MODULES = ("radar", "lidar", "sonar", "radiometer", "infrared", "ultraso
 
 
 def _load_chains():
-    # Importing the family modules registers their chains.
+    """Import the family modules (once); importing a module registers its chain."""
+    if _LOADED:
+        return
     import importlib
     import importlib.util
 
     for name in _FAMILY_MODULES:
         if importlib.util.find_spec(f"{__package__}.{name}") is not None:
             importlib.import_module(f"{__package__}.{name}")
+    _LOADED.append(True)
 
 
 def sensor_kinds() -> list:
     """Names of the registered sensor chains."""
-    if not _LOADED:
-        _load_chains()
-        _LOADED.append(True)
+    _load_chains()
     return sorted(CHAINS)
 
 
 def chain_for(scene: Scene) -> Chain:
     """The registered chain of ``scene.sensor`` (validated against the scene)."""
-    if not _LOADED:
-        _load_chains()
-        _LOADED.append(True)
+    _load_chains()
     if scene.sensor not in CHAINS:
         raise DomainError(f"unknown sensor kind {scene.sensor!r}; known kinds: {sorted(CHAINS)}")
     chain = CHAINS[scene.sensor]

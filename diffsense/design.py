@@ -18,7 +18,6 @@ import itertools
 from dataclasses import dataclass
 from typing import Dict, List
 
-import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -163,14 +162,13 @@ class DesignModel:
         """Requirement rows {name, output, case, value, limit, unit, sense, met, slack}."""
         values = np.asarray(self.requirement_values(jnp.asarray(x), jnp.asarray(combo)))
         rows = []
-        for r, v in zip(self.requirements, values):
+        for r, v, scale in zip(self.requirements, values, self.scales):
             if r.sense == "at_least":
                 slack = v - r.limit
             elif r.sense == "at_most":
                 slack = r.limit - v
             else:
                 slack = -abs(v - r.limit)
-            scale = 1.0 if r.unit in _ABSOLUTE_UNITS else max(abs(r.limit), 1e-300)
             rows.append({"name": r.name, "case": r.case, "output": r.output, "value": float(v),
                          "limit": r.limit, "unit": r.unit, "sense": r.sense,
                          "met": bool(slack >= -tol * scale), "slack": float(slack)})

@@ -9,8 +9,9 @@ Steps (all catalog combinations and all starts run in one vectorised call each):
    requirements are tightened by a small ``margin`` (scaled units) so that the answer meets
    them when re-evaluated, not only to the solver's tolerance.
 2. **Integers.** Integer variables of the best relaxed answer of each combination are rounded
-   to every floor/ceil neighbour combination; the continuous rest is re-solved with the
-   integers fixed, and the best feasible neighbour is kept (neighbour verification).
+   to their floor/ceil neighbours (:func:`diffsense.optimize.integer.rounding_candidates`);
+   the continuous rest is re-solved with the integers fixed, and the best feasible neighbour
+   is kept (neighbour verification).
 3. **Choice.** The feasible combination with the lowest objective wins. When no combination is
    feasible the least-infeasible answer is returned with ``feasible`` False and the
    requirements it leaves unmet.
@@ -18,7 +19,6 @@ Steps (all catalog combinations and all starts run in one vectorised call each):
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass
 from typing import List, Optional
 
@@ -28,6 +28,8 @@ import numpy as np
 
 from .design import DesignModel
 from .optimize import Problem, SolverOptions, solve
+from .optimize.integer import rounding_candidates
+from .optimize.multistart import start_points
 
 
 @dataclass
@@ -45,23 +47,6 @@ class DesignOptimum:
     starts_at_best: int
     unmet: List[str]
     candidates: List[dict]  # per combination: options, objective, feasible
-
-
-def _lhs(n_starts: int, n_var: int, seed: int) -> np.ndarray:
-    """Latin-hypercube sample in [0, 1]^n (one point per stratum and dimension)."""
-    rng = np.random.default_rng(seed)
-    u = (rng.random((n_starts, n_var)) + np.arange(n_starts)[:, None]) / n_starts
-    for j in range(n_var):
-        u[:, j] = u[rng.permutation(n_starts), j]
-    return u
-
-
-def _from_unit(model: DesignModel, u: np.ndarray) -> np.ndarray:
-    lo, hi = model.lower, model.upper
-    log = model.log_scale
-    out = np.where(log, np.exp(np.log(np.where(log, lo, 1.0)) + u * (np.log(np.where(log, hi, 1.0)) - np.log(np.where(log, lo, 1.0)))),
-                   lo + u * (hi - lo))
-    return np.clip(out, lo, hi)
 
 
 def build_problem(model: DesignModel, free=None) -> Problem:
@@ -106,8 +91,9 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
     limits = _tight_limits(model, margin)
     problem = build_problem(model)
 
-    starts = np.vstack([model.initial[None, :], _from_unit(model, _lhs(max(n_starts - 1, 0), n_var, seed))])
-    starts = starts[:max(n_starts, 1)]
+    starts = model.initial[None, :]
+    if n_starts > 1:
+        starts = np.vstack([starts, start_points(problem, n_starts - 1, seed=seed, method="lhs")])
     n_s = starts.shape[0]
     # grid: combos x starts
     x0 = np.repeat(starts[None, :, :], n_combo, axis=0).reshape(-1, n_var)
@@ -135,15 +121,15 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
     final_lam = np.array([np.asarray(res.lam).reshape(n_combo, n_s, -1)[c, best_rows[c]] for c in range(n_combo)])
     int_idx = np.flatnonzero(model.integer)
     if int_idx.size:
+        int_lo, int_hi = np.ceil(model.lower[int_idx]), np.floor(model.upper[int_idx])
         cand_x, cand_c = [], []
         for c in range(n_combo):
-            choices = [sorted({np.floor(final_x[c, i]), np.ceil(final_x[c, i])}) for i in int_idx]
-            for pick in itertools.product(*choices):
-                x = final_x[c].copy()
-                x[int_idx] = pick
-                cand_x.append(x)
-                cand_c.append(c)
-        cand_x = np.clip(np.array(cand_x), model.lower, model.upper)
+            picks = np.asarray(rounding_candidates(jnp.asarray(final_x[c, int_idx]), int_lo, int_hi))
+            x = np.repeat(final_x[c][None, :], picks.shape[0], axis=0)
+            x[:, int_idx] = picks
+            cand_x.append(x)
+            cand_c.extend([c] * picks.shape[0])
+        cand_x = np.clip(np.concatenate(cand_x), model.lower, model.upper)
         cand_c = np.array(cand_c)
         cont_idx = np.flatnonzero(~model.integer)
         fixed_problem = build_problem(model, cont_idx)
@@ -177,8 +163,7 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
     if np.isfinite(score).any():
         best = int(np.argmin(score))
     else:
-        viol = [sum(max(-r["slack"], 0.0) / (1.0 if r["unit"] in ("dB", "deg", "1") else max(abs(r["limit"]), 1e-300))
-                    for r in rep) for rep in reports]
+        viol = [sum(max(-r["slack"], 0.0) / scale for r, scale in zip(rep, model.scales)) for rep in reports]
         best = int(np.argmin(viol))
     # multi-start statistics of the winning combination's relaxed solve
     fb = f[best]

@@ -45,7 +45,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Mapping, Optional, Tuple
 
-from ._checks import DomainError
+from ._checks import DomainError, check_range
 from .chain import Output, Param, chain_for, sensor_kinds
 from .scene import Scene
 from .units import UnitError, to_unit
@@ -169,13 +169,10 @@ def _quantity(file, key: str, value, unit: str) -> float:
 
 
 def _check_domain(file, key: str, prm: Param, value: float) -> None:
-    bad = (prm.lo is not None and (value <= prm.lo if prm.lo_open else value < prm.lo)) or (
-        prm.hi is not None and (value >= prm.hi if prm.hi_open else value > prm.hi)
-    )
-    if bad:
-        lo = "-inf" if prm.lo is None else f"{prm.lo:g}"
-        hi = "inf" if prm.hi is None else f"{prm.hi:g}"
-        raise SpecError(file, key, f"{value:g} {prm.unit} lies outside the model's domain [{lo}, {hi}] {prm.unit}")
+    try:
+        check_range(prm.name, value, prm.lo, prm.hi, lo_open=prm.lo_open, hi_open=prm.hi_open)
+    except DomainError as exc:
+        raise SpecError(file, key, f"{value:g} {prm.unit} lies outside the model's domain: {exc}") from None
 
 
 def _scene(file, key: str, sensor: str, parts, options) -> Scene:

@@ -203,7 +203,7 @@ def batch_throughput(B, BH, device_counts):
         out = subprocess.run([sys.executable, "-c", _SHARD_SCRIPT.format(repo=repo, B=B, BH=BH)],
                              capture_output=True, text=True, env=env)
         if out.returncode != 0:
-            print(f"sharded run with {n} devices failed: {out.stderr[-500:]}")
+            print(f"sharded run with {n} devices failed: {out.stderr[-3000:]}")
             continue
         res = json.loads(out.stdout.strip().splitlines()[-1])
         print(f"sharded over {res['devices']} host devices: servo {B / res['servo_s']:10.0f} solves/s, "

@@ -18,6 +18,7 @@ import itertools
 from dataclasses import dataclass
 from typing import Dict, List
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -94,7 +95,8 @@ class DesignModel:
                                 if k not in self.variable_names and k not in self.combo_params}
         # objective normalisation: its magnitude at the initial design of the first combination
         self._objective_scale = 1.0
-        f0 = float(self.raw_objective(jnp.asarray(self.initial), jnp.asarray(self.combo_table[0])))
+        self._evaluate_all = None
+        f0 = float(jax.jit(self.raw_objective)(jnp.asarray(self.initial), jnp.asarray(self.combo_table[0])))
         self._objective_scale = max(abs(f0), 1e-300) if np.isfinite(f0) and f0 != 0 else 1.0
 
     # --- evaluation --------------------------------------------------------------------------
@@ -158,9 +160,20 @@ class DesignModel:
         """Normalised objective (≈ ±1 at the initial design) to be minimised."""
         return self.raw_objective(x, combo) / self._objective_scale
 
+    def evaluate_all(self, x, combo):
+        """``(evaluations, requirement_values, raw_objective)`` at one design, compiled once per
+        model. Re-evaluating designs through this is far cheaper than eager evaluation, whose
+        root-finding and series loops would each be compiled again on every call."""
+        if self._evaluate_all is None:
+            def run(x, combo):
+                ev = self.evaluate(x, combo)
+                return ev, self.requirement_values(x, combo, ev), self.raw_objective(x, combo, ev)
+            self._evaluate_all = jax.jit(run)
+        return self._evaluate_all(jnp.asarray(x, dtype=float), jnp.asarray(combo, dtype=float))
+
     def requirement_report(self, x, combo, tol: float = 1e-9) -> List[dict]:
         """Requirement rows {name, output, case, value, limit, unit, sense, met, slack}."""
-        values = np.asarray(self.requirement_values(jnp.asarray(x), jnp.asarray(combo)))
+        values = np.asarray(self.evaluate_all(x, combo)[1])
         rows = []
         for r, v, scale in zip(self.requirements, values, self.scales):
             if r.sense == "at_least":
@@ -202,7 +215,7 @@ def design_record(model: DesignModel, x, combo_index: int) -> dict:
     for j, n in enumerate(model.combo_params):
         design[n] = {"value": float(combo[j]), "unit": spec.unit_of(first, n), "kind": "catalog"}
     choices = dict(model.combinations[combo_index].options)
-    evaluations = model.evaluate(jnp.asarray(x), jnp.asarray(combo))
+    evaluations, _, raw_objective = model.evaluate_all(x, combo)
     cases = {}
     for case, ev in evaluations.items():
         outs = spec.outputs[case]
@@ -222,6 +235,6 @@ def design_record(model: DesignModel, x, combo_index: int) -> dict:
         "choices": choices,
         "requirements": model.requirement_report(x, combo),
         "objective": {"text": spec.objective.text,
-                      "value": float(model.raw_objective(jnp.asarray(x), jnp.asarray(combo)) * spec.objective.sign)},
+                      "value": float(raw_objective) * spec.objective.sign},
         "cases": cases,
     }

@@ -49,19 +49,20 @@ class DesignOptimum:
     candidates: List[dict]  # per combination: options, objective, feasible
 
 
-def build_problem(model: DesignModel, free=None) -> Problem:
+def build_problem(model: DesignModel) -> Problem:
     """The optimiser's :class:`Problem` for ``model``.
 
-    θ = (catalog row, requirement limits, full design vector). ``free`` (indices) selects the
-    variables the solver moves; the others keep their values from θ's design vector (used to
-    re-solve the continuous variables with the integers fixed).
+    θ = (catalog row, requirement limits, design vector, pinned mask). Variables whose mask is
+    True keep their value from θ's design vector whatever the solver's iterate says: the
+    objective and constraints do not depend on them, so their gradient is zero and the solver
+    leaves them alone. One compiled solve thus serves the relaxed problem (nothing pinned) and
+    the re-solve of the continuous variables with the integers pinned at a rounding candidate.
     """
     ineq = ~model.is_equality
     eq = model.is_equality
-    free = np.arange(len(model.variable_names)) if free is None else np.asarray(free, dtype=int)
 
     def full(x, theta):
-        return theta[2].at[free].set(x)
+        return jnp.where(theta[3], theta[2], x)
 
     def objective(x, theta):
         return model.objective(full(x, theta), theta[0])
@@ -72,14 +73,27 @@ def build_problem(model: DesignModel, free=None) -> Problem:
     def equality(x, theta):
         return model.residuals(full(x, theta), theta[0], theta[1])[eq]
 
-    return Problem(objective, model.lower[free], model.upper[free], inequality=inequality if ineq.any() else None,
-                   equality=equality if eq.any() else None, log_scale=model.log_scale[free],
-                   names=[model.variable_names[i] for i in free])
+    return Problem(objective, model.lower, model.upper, inequality=inequality if ineq.any() else None,
+                   equality=equality if eq.any() else None, log_scale=model.log_scale,
+                   names=list(model.variable_names))
 
 
 def _tight_limits(model: DesignModel, margin: float) -> np.ndarray:
     # move each inequality limit inward by margin (in scaled units): at_least up, at_most down
     return model.limits - model.sign * margin * model.scales * (~model.is_equality)
+
+
+def _solve_in_batches(solver, batch: int, *columns):
+    """``solver`` over rows of ``columns`` in batches of exactly ``batch`` rows (the last one
+    padded by repeating its final row), so the compiled program of the first call is reused."""
+    n = columns[0].shape[0]
+    outs = []
+    for start in range(0, n, batch):
+        rows = np.arange(start, min(start + batch, n))
+        padded = np.concatenate([rows, np.full(batch - rows.size, rows[-1])])
+        res = solver(*(jnp.asarray(np.asarray(c)[padded]) for c in columns))
+        outs.append(jax.tree_util.tree_map(lambda a, k=rows.size: np.asarray(a)[:k], res))
+    return jax.tree_util.tree_map(lambda *a: np.concatenate(a), *outs)
 
 
 def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, margin: float = 1e-7,
@@ -100,8 +114,8 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
     combos = np.repeat(model.combo_table[:, None, :], n_s, axis=1).reshape(-1, model.combo_table.shape[1])
     lim = np.broadcast_to(limits, (x0.shape[0], limits.size))
 
-    solver = jax.jit(jax.vmap(lambda x, c, l: solve(problem, x, (c, l, x), options)))
-    res = solver(jnp.asarray(x0), jnp.asarray(combos), jnp.asarray(lim))
+    solver = jax.jit(jax.vmap(lambda x, c, l, pin: solve(problem, x, (c, l, x, pin), options)))
+    res = solver(jnp.asarray(x0), jnp.asarray(combos), jnp.asarray(lim), jnp.zeros(x0.shape, dtype=bool))
     f = np.asarray(res.f).reshape(n_combo, n_s)
     feas = np.asarray(res.feasible).reshape(n_combo, n_s)
     conv = np.asarray(res.converged).reshape(n_combo, n_s)
@@ -131,13 +145,11 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
             cand_c.extend([c] * picks.shape[0])
         cand_x = np.clip(np.concatenate(cand_x), model.lower, model.upper)
         cand_c = np.array(cand_c)
-        cont_idx = np.flatnonzero(~model.integer)
-        fixed_problem = build_problem(model, cont_idx)
-        fsolver = jax.jit(jax.vmap(lambda x, c, l, full: solve(fixed_problem, x, (c, l, full), options)))
-        r2 = fsolver(jnp.asarray(cand_x[:, cont_idx]), jnp.asarray(model.combo_table[cand_c]),
-                     jnp.asarray(np.broadcast_to(limits, (cand_x.shape[0], limits.size))), jnp.asarray(cand_x))
-        r2_x = cand_x.copy()
-        r2_x[:, cont_idx] = np.asarray(r2.x)
+        # the same compiled solve, integers pinned at each candidate
+        pins = np.broadcast_to(model.integer, cand_x.shape)
+        r2 = _solve_in_batches(solver, x0.shape[0], cand_x, model.combo_table[cand_c],
+                               np.broadcast_to(limits, (cand_x.shape[0], limits.size)), pins)
+        r2_x = np.where(pins, cand_x, np.asarray(r2.x))
         f2 = np.asarray(r2.f)
         feas2 = np.asarray(r2.feasible)
         for c in range(n_combo):
@@ -157,8 +169,7 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
     # exact re-evaluation decides feasibility
     reports = [model.requirement_report(final_x[c], model.combo_table[c]) for c in range(n_combo)]
     met = np.array([all(r["met"] for r in rep) for rep in reports])
-    raw_obj = np.array([float(model.raw_objective(jnp.asarray(final_x[c]), jnp.asarray(model.combo_table[c])))
-                        for c in range(n_combo)])
+    raw_obj = np.array([float(model.evaluate_all(final_x[c], model.combo_table[c])[2]) for c in range(n_combo)])
     score = np.where(met, raw_obj, np.inf)
     if np.isfinite(score).any():
         best = int(np.argmin(score))

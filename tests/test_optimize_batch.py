@@ -8,7 +8,6 @@ import sys
 import textwrap
 from pathlib import Path
 
-import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -17,7 +16,7 @@ import diffsense  # noqa: F401
 from diffsense._checks import DomainError
 from diffsense.optimize import SolverOptions, make_batch_solver, solve_batch
 from diffsense.optimize import reference_problems as rp
-from diffsense.optimize.constrained import compiler_options
+from diffsense.optimize.constrained import jit_with_options
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -32,7 +31,7 @@ def _servo_sweep(B):
 
 def test_theta_sweep_matches_book_14_12():
     P, th = _servo_sweep(64)
-    run = jax.jit(lambda x0, t: solve_batch(P.problem, x0, t), compiler_options=compiler_options("fast"))
+    run = jit_with_options(lambda x0, t: solve_batch(P.problem, x0, t), "fast")
     r = run(jnp.array([1.0]), th)
     assert r.x.shape == (64, 1) and np.all(np.asarray(r.converged))
     np.testing.assert_allclose(np.asarray(r.x[:, 0]), np.asarray(rp.servo_optimum_hz(th)), rtol=1e-6)

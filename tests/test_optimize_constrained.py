@@ -47,7 +47,8 @@ def test_hock_schittkowski_published_optimum(name):
     assert abs(float(r.f) - P.f_star) <= 1e-7 * max(1.0, abs(P.f_star))
     np.testing.assert_allclose(np.asarray(r.x), P.x_star, rtol=0, atol=1e-6 * max(1.0, np.max(np.abs(P.x_star))))
     assert float(violation(r)) <= 1e-8
-    assert np.all(np.asarray(r.x) >= np.asarray(P.problem.lower)) and np.all(np.asarray(r.x) <= np.asarray(P.problem.upper))
+    x = np.asarray(r.x)
+    assert np.all(x >= np.asarray(P.problem.lower)) and np.all(x <= np.asarray(P.problem.upper))
 
 
 def test_hs071_multipliers_match_ipopt_example():
@@ -201,6 +202,30 @@ def test_bounds_never_violated_from_outside_start():
     np.testing.assert_array_equal(np.asarray(r.x), [1.0, 0.0])
     np.testing.assert_allclose(np.asarray(r.mu_upper), [4.0, 0.0], atol=1e-12)
     np.testing.assert_allclose(np.asarray(r.mu_lower), [0.0, 4.0], atol=1e-12)
+
+
+def test_twenty_log_scaled_variables_match_slsqp_reference():
+    # minimise sum c_i x_i with c spanning 1e-3..1e3, x_i in [1e-3, 1e3] (log-scaled), subject to
+    # ten dB-like requirements A log10(x) >= b. Convex in u = log10 x, so the optimum is unique;
+    # reference: scipy SLSQP in u with analytic gradients and ftol 1e-15 (independent solver).
+    from scipy.optimize import minimize
+
+    rng = np.random.default_rng(1)
+    n, m = 20, 10
+    c = rng.uniform(0.5, 2, n) * 10.0 ** rng.uniform(-3, 3, n)
+    A = rng.uniform(0, 10, (m, n))
+    b = rng.uniform(5, 30, m)
+    prob = Problem(lambda x, _: jnp.sum(jnp.asarray(c) * x), 1e-3 * np.ones(n), 1e3 * np.ones(n),
+                   inequality=lambda x, _: jnp.asarray(b) - jnp.asarray(A) @ jnp.log10(x), log_scale=True)
+    r = make_solver(prob, OPTS, compile="fast")(jnp.ones(n))
+    ref = minimize(lambda u: float(np.sum(c * 10**u)), np.zeros(n), jac=lambda u: c * 10**u * np.log(10),
+                   method="SLSQP", bounds=[(-3, 3)] * n,
+                   constraints=[{"type": "ineq", "fun": lambda u: A @ u - b, "jac": lambda u: A}],
+                   options={"ftol": 1e-15, "maxiter": 2000})
+    assert np.all(A @ ref.x - b >= -1e-9)
+    assert bool(r.converged) and bool(r.feasible)
+    np.testing.assert_allclose(float(r.f), ref.fun, rtol=1e-9)
+    np.testing.assert_allclose(np.log10(np.asarray(r.x)), ref.x, atol=1e-6)
 
 
 # ----------------------------------------------------------------- infeasibility

@@ -20,10 +20,9 @@ import diffsense  # noqa: F401
 from diffsense._checks import DomainError
 from diffsense.optimize import Problem, SolverOptions, differentiable_solver, kkt_sensitivity, make_solver, solve
 from diffsense.optimize import reference_problems as rp
-from diffsense.optimize.constrained import compiler_options
+from diffsense.optimize.constrained import jit_with_options
 
 OPTS = SolverOptions()
-FAST = compiler_options("fast")
 SERVO = rp.servo_bandwidth()
 SERVO_SOL = differentiable_solver(SERVO.problem, OPTS)
 ONE = jnp.array([1.0])
@@ -33,8 +32,8 @@ ONE = jnp.array([1.0])
 BETA_EXP = {"snr": 0.2, "range_m": -0.4, "accel_m_s2": 0.4, "theta3db_rad": -0.4, "prf_hz": 0.2, "km": 0.4}
 F_EXP = {"snr": -0.8, "range_m": -0.4, "accel_m_s2": 0.4, "theta3db_rad": 1.6, "prf_hz": -0.8, "km": -1.6}
 
-_servo_jac_x = jax.jit(jax.jacfwd(lambda th: SERVO_SOL(ONE, th).x[0]), compiler_options=FAST)
-_servo_grad_f = jax.jit(jax.grad(lambda th: SERVO_SOL(ONE, th).f), compiler_options=FAST)
+_servo_jac_x = jit_with_options(jax.jacfwd(lambda th: SERVO_SOL(ONE, th).x[0]), "fast")
+_servo_grad_f = jit_with_options(jax.grad(lambda th: SERVO_SOL(ONE, th).f), "fast")
 
 
 def test_servo_bandwidth_derivatives_book_14_12_forward_and_reverse():
@@ -53,7 +52,7 @@ def test_servo_sensitivity_vmapped_over_snr():
     snr = jnp.array([1.0, 10.0, 100.0, 1000.0])
     ths = {k: jnp.broadcast_to(v, (4,)) for k, v in SERVO.theta.items()}
     ths["snr"] = snr
-    d = jax.jit(jax.vmap(jax.grad(lambda th: SERVO_SOL(ONE, th).x[0])), compiler_options=FAST)(ths)
+    d = jit_with_options(jax.vmap(jax.grad(lambda th: SERVO_SOL(ONE, th).x[0])), "fast")(ths)
     bo = rp.servo_optimum_hz(ths)
     np.testing.assert_allclose(np.asarray(d["snr"]), np.asarray(0.2 * bo / snr), rtol=1e-9)
 
@@ -63,7 +62,7 @@ _SNR_DB_PROBLEM = Problem(
     lambda x, snr_db: rp.servo_error_variance(x[0], {**SERVO.theta, "snr": 10.0 ** (snr_db / 10.0)}),
     0.01, 1000.0, log_scale=True)
 _SNR_DB_SOL = differentiable_solver(_SNR_DB_PROBLEM, OPTS)
-_snr_db_value_and_grad = jax.jit(jax.value_and_grad(lambda s: _SNR_DB_SOL(ONE, s).f), compiler_options=FAST)
+_snr_db_value_and_grad = jit_with_options(jax.value_and_grad(lambda s: _SNR_DB_SOL(ONE, s).f), "fast")
 
 
 @settings(max_examples=10, deadline=None)
@@ -84,8 +83,8 @@ def test_energy_requirement_shadow_price_and_design_sensitivity():
     a, b, E = 1e-3, 1e6, 1e-3
     prob = Problem(lambda x, e: a * x[0] + b * x[1], [1.0, 1e-9], [1e6, 1e-3],
                    inequality=lambda x, e: jnp.array([e - x[0] * x[1]]), log_scale=True)
-    r = jax.jit(lambda e: solve(prob, jnp.array([1e5, 1e-8]), e, OPTS), compiler_options=FAST)(jnp.asarray(E))
-    S = jax.jit(lambda r, e: kkt_sensitivity(prob, r, e, OPTS), compiler_options=FAST)(r, jnp.asarray(E))
+    r = jit_with_options(lambda e: solve(prob, jnp.array([1e5, 1e-8]), e, OPTS), "fast")(jnp.asarray(E))
+    S = jit_with_options(lambda r, e: kkt_sensitivity(prob, r, e, OPTS), "fast")(r, jnp.asarray(E))
     P, tau = math.sqrt(b * E / a), math.sqrt(a * E / b)
     np.testing.assert_allclose(float(S.df), math.sqrt(a * b / E), rtol=1e-9)
     np.testing.assert_allclose(float(r.lam[0]), math.sqrt(a * b / E), rtol=1e-9)
@@ -104,10 +103,10 @@ def _hs071_parametric():
 def test_hs071_sensitivity_matches_published_multipliers_and_resolves():
     prob = _hs071_parametric()
     x0 = jnp.array([1.0, 5.0, 5.0, 1.0])
-    run = jax.jit(lambda t: solve(prob, x0, t, OPTS), compiler_options=FAST)
+    run = jit_with_options(lambda t: solve(prob, x0, t, OPTS), "fast")
     t = jnp.array([25.0, 40.0])
     r = run(t)
-    S = jax.jit(lambda r, t: kkt_sensitivity(prob, r, t, OPTS), compiler_options=FAST)(r, t)
+    S = jit_with_options(lambda r, t: kkt_sensitivity(prob, r, t, OPTS), "fast")(r, t)
     # envelope theorem: d f*/d(25) = lambda, d f*/d(40) = -nu (Ipopt HS071 example multipliers)
     np.testing.assert_allclose(np.asarray(S.df), [0.5522937, -0.1614686], rtol=2e-6)
     # central differences of re-solves, h = 1e-4; truncation O(h^2) ~ 1e-8, solve accuracy ~1e-13
@@ -130,7 +129,7 @@ def test_simplex_projection_jacobian_closed_form():
     P = rp.simplex_projection()
     sol = differentiable_solver(P.problem, OPTS)
     a = jnp.array([0.9, 0.6, -0.2, 0.1])
-    jac = jax.jit(jax.jacrev(lambda a: sol(jnp.full(4, 0.25), a)), compiler_options=FAST)(a)
+    jac = jit_with_options(jax.jacrev(lambda a: sol(jnp.full(4, 0.25), a)), "fast")(a)
     xs = rp.simplex_projection_solution(np.asarray(a))
     S = xs > 0
     k = S.sum()

@@ -16,9 +16,18 @@ PFA_RANGE = (1e-300, 0.5)
 N_RANGE = (1.0, 1e4)
 
 
+_LN10_OVER_10 = 0.23025850929940456840179914546843642  # ln(10) / 10
+
+
 def db_to_linear(x_db):
-    """10^(x/10)."""
-    return 10.0 ** (jnp.asarray(x_db, dtype=jnp.result_type(x_db, float)) / 10.0)
+    """10^(x/10), evaluated as exp(x ln(10)/10).
+
+    The exponential is several times cheaper than a general power on CPU. The rounding of the
+    product x ln(10)/10 gives a relative error up to about |x ln(10)/10| 1.1e-16 (max 3.3e-15
+    over -90...130 dB against mpmath), the order of the error of rounding x/10 before a power.
+    """
+    x = jnp.asarray(x_db, dtype=jnp.result_type(x_db, float))
+    return jnp.exp(x * _LN10_OVER_10)
 
 
 def linear_to_db(x):

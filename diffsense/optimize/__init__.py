@@ -23,6 +23,7 @@ from .constrained import (
     Scales,
     SolverOptions,
     compiler_options,
+    jit_with_options,
     make_solver,
     solve,
     violation,
@@ -42,7 +43,7 @@ from .batch import make_batch_solver, solve_batch
 
 __all__ = [
     "Problem", "SolverOptions", "Result", "KKTResidual", "Conflict", "Scales", "solve", "make_solver",
-    "violation", "compiler_options", "Sensitivity", "Solution", "kkt_sensitivity", "shadow_prices",
+    "violation", "compiler_options", "jit_with_options", "Sensitivity", "Solution", "kkt_sensitivity", "shadow_prices",
     "differentiable_solver", "MixedIntegerResult", "CatalogResult", "solve_mixed_integer", "solve_catalog",
     "MultistartResult", "sobol_points", "latin_hypercube", "start_points", "multistart", "make_multistart",
     "run_multistart", "solve_batch", "make_batch_solver",

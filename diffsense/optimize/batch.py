@@ -3,11 +3,18 @@
 ``solve_batch`` vmaps :func:`diffsense.optimize.solve` over a leading batch axis of x0 and
 of every θ leaf. ``make_batch_solver`` jits that and, with ``shard=True``, splits the batch
 across all available devices: a 1-D ``jax.sharding.Mesh`` named "batch" over the devices and
-``NamedSharding(mesh, PartitionSpec("batch"))`` on every input and output, so each device
-solves its slice (the problems are independent; there is no communication). The batch is
-padded to a multiple of the device count by repeating its last element and trimmed again.
-On a machine with one device the sharded and unsharded programs are the same. On CPU, XLA
-can be told to expose several host devices with
+``NamedSharding(mesh, PartitionSpec("batch"))`` on every input and output; XLA's SPMD
+partitioner then gives each device its slice. The problems are independent, but the vmapped
+while loops are not: their predicate is "any element still running", so the partitioned
+program all-reduces one boolean per loop iteration and the devices advance in lockstep (as
+the elements of a vmapped batch already do on one device). Measured on this project's
+2-core CPU with 2 forced host devices, sharding gains little or loses (servo sweep +10 %,
+HS071 batch −30 %: XLA:CPU already spreads one device's batched work over the cores, and
+the lockstep costs; see benchmarks/bench_optimizer.py); the point is multi-accelerator hosts. (Per-device independent loops via ``jax.shard_map``/``pmap`` are
+not used: in JAX 0.10 lineax, which optimistix's BFGS uses, rejects the sharding-annotated
+shapes it sees inside them.) The batch is padded to a multiple of the device count by
+repeating its last element and trimmed again. On a machine with one device the sharded and
+unsharded programs are the same. On CPU, XLA can be told to expose several host devices with
 ``XLA_FLAGS=--xla_force_host_platform_device_count=N`` (set before JAX starts).
 """
 
@@ -21,7 +28,7 @@ import numpy as np
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
 from .._checks import DomainError
-from .constrained import Result, SolverOptions, compiler_options, solve
+from .constrained import Result, SolverOptions, jit_with_options, solve
 from .problem import Problem
 
 
@@ -65,13 +72,11 @@ def make_batch_solver(problem: Problem, options: SolverOptions = SolverOptions()
     ``NamedSharding(mesh, P("batch"))`` and pads B to a multiple of the device count; the
     returned arrays keep that sharding (after trimming the padding). ``shard=False`` is one
     jitted vmap on the default device. One compilation per (padded) batch shape."""
-    copts = compiler_options(compile)
-
     def run(x0, thetas):
         return solve_batch(problem, x0, thetas, options)
 
     if not shard:
-        return jax.jit(run, compiler_options=copts)
+        return jit_with_options(run, compile)
 
     mesh = batch_mesh(devices)
     n_dev = mesh.devices.size
@@ -96,7 +101,7 @@ def make_batch_solver(problem: Problem, options: SolverOptions = SolverOptions()
         if key not in cache:
             x_sh = replicated if shared_x0 else sharding
             th_sh = jax.tree_util.tree_map(lambda _: sharding, thp)
-            cache[key] = jax.jit(run, in_shardings=(x_sh, th_sh), out_shardings=sharding, compiler_options=copts)
+            cache[key] = jit_with_options(run, compile, in_shardings=(x_sh, th_sh), out_shardings=sharding)
         x0p = jax.device_put(x0p, replicated if shared_x0 else sharding)
         thp = jax.device_put(thp, jax.tree_util.tree_map(lambda _: sharding, thp))
         out = cache[key](x0p, thp)

@@ -27,7 +27,7 @@ solves every option in one vmap and returns the best feasible one.
 from __future__ import annotations
 
 import itertools
-from typing import NamedTuple, Optional
+from typing import NamedTuple
 
 import jax
 import jax.numpy as jnp

@@ -31,7 +31,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._checks import DomainError, check_choice, check_range
-from .constrained import Result, SolverOptions, compiler_options, solve
+from .constrained import Result, SolverOptions, jit_with_options, solve
 from .problem import Problem
 
 # Joe & Kuo (2008), new-joe-kuo-6.21201: (s, a, m_1..m_s) for dimensions 2..32; dimension 1
@@ -269,7 +269,7 @@ def make_multistart(problem: Problem, options: SolverOptions = SolverOptions(), 
     """Jitted ``fn(starts, theta=None) -> MultistartResult`` (compiled once per shape)."""
     def run(starts, theta=None):
         return multistart(problem, starts, theta, options, f_rtol=f_rtol, x_tol=x_tol)
-    return jax.jit(run, compiler_options=compiler_options(compile))
+    return jit_with_options(run, compile)
 
 
 def run_multistart(problem: Problem, theta=None, *, n_starts: int = 32, seed: Optional[int] = 0,

@@ -11,9 +11,11 @@ the active constraint gradients, strict complementarity (active multipliers > 0,
 active set does not change under a small perturbation) and second-order sufficiency — the
 Jacobian ∂R/∂s is nonsingular and the implicit function theorem gives
 
-    ds*/dθ = −(∂R/∂s)⁻¹ ∂R/∂θ                      (Fiacco, *Introduction to Sensitivity and
-                                                     Stability Analysis in Nonlinear
-                                                     Programming*, Academic Press 1983, Thm 3.2.2)
+    ds*/dθ = −(∂R/∂s)⁻¹ ∂R/∂θ
+
+(the basic sensitivity theorem: A. V. Fiacco, *Introduction to Sensitivity and Stability
+Analysis in Nonlinear Programming*, Academic Press 1983, §3.2; Nocedal & Wright,
+*Numerical Optimization*, 2nd ed., §12.8 for the multipliers as sensitivities)
 
 and the envelope theorem gives the derivative of the optimal value without dx*/dθ:
 

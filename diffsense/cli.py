@@ -200,5 +200,39 @@ def optimize(
         raise typer.Exit(code=3)
 
 
+@app.command()
+def report(
+    design_file: Path = typer.Argument(..., help="Requirement spec (TOML), e.g. designs/sidescan_sonar.toml."),
+    out: Path = typer.Option(..., "--out", help="Directory for report.md, report.html, report.json and figures/."),
+    no_optimize: bool = typer.Option(False, "--no-optimize", help="Report the spec's initial design instead of the optimum."),
+    starts: int = typer.Option(8, help="Starts per catalog combination when optimising."),
+    seed: int = typer.Option(0, help="Seed of the multi-start design."),
+):
+    """Write a design report: budgets, detection plots, elasticities and post-optimal sensitivities
+    (exit 2 on an invalid spec, 3 when the optimum leaves a requirement unmet)."""
+    from rich.console import Console
+
+    from .report import build_report
+    from .spec import SpecError
+
+    console = Console()
+    try:
+        record = build_report(design_file, out, optimize=not no_optimize, n_starts=starts, seed=seed)
+    except SpecError as exc:
+        console.print(f"[red]error:[/red] {exc}", highlight=False)
+        raise typer.Exit(code=2)
+    for kind in ("md", "html", "json"):
+        console.print(f"wrote {record['files'][kind]}", highlight=False)
+    console.print(f"figures: {len(record['figures'])} in {out / 'figures'}", highlight=False)
+    for item in record["unavailable"]:
+        console.print(f"[yellow]not available:[/yellow] {item['section']}: {item['reason']}", highlight=False)
+    for item in record["skipped_figures"]:
+        console.print(f"[yellow]figure skipped:[/yellow] {item['figure']}: {item['reason']}", highlight=False)
+    if not no_optimize and not record["feasible"]:
+        console.print("[red]infeasible:[/red] these requirements cannot be met together within the bounds: "
+                      + "; ".join(record.get("unmet", [])))
+        raise typer.Exit(code=3)
+
+
 if __name__ == "__main__":
     app()

@@ -173,9 +173,13 @@ class DesignModel:
 
     def requirement_report(self, x, combo, tol: float = 1e-9) -> List[dict]:
         """Requirement rows {name, output, case, value, limit, unit, sense, met, slack}."""
-        values = np.asarray(self.evaluate_all(x, combo)[1])
+        return self.requirement_rows(self.evaluate_all(x, combo)[1], tol)
+
+    def requirement_rows(self, values, tol: float = 1e-9) -> List[dict]:
+        """Requirement rows for given requirement output ``values`` (spec order, their units):
+        slack ≥ 0 when met; "met" allows ``tol`` in scaled units."""
         rows = []
-        for r, v, scale in zip(self.requirements, values, self.scales):
+        for r, v, scale in zip(self.requirements, np.asarray(values, dtype=float), self.scales):
             if r.sense == "at_least":
                 slack = v - r.limit
             elif r.sense == "at_most":
@@ -200,12 +204,11 @@ def _jsonable(value):
     return float(arr) if arr.ndim == 0 else arr.tolist()
 
 
-def design_record(model: DesignModel, x, combo_index: int) -> dict:
-    """JSON-ready description of one design: the design values with units, requirements,
-    objective, and per case the link budget and every output."""
+def design_table(model: DesignModel, x, combo_index: int) -> dict:
+    """name → {value, unit, kind, (lower, upper)} for every design variable and every parameter
+    set by the catalog combination ``combo_index``."""
     spec = model.spec
     combo = model.combo_table[combo_index]
-    x = np.asarray(x, dtype=float)
     design = {}
     for i, n in enumerate(model.variable_names):
         v = spec.variables[n]
@@ -214,6 +217,16 @@ def design_record(model: DesignModel, x, combo_index: int) -> dict:
     first = next(iter(spec.scenes))
     for j, n in enumerate(model.combo_params):
         design[n] = {"value": float(combo[j]), "unit": spec.unit_of(first, n), "kind": "catalog"}
+    return design
+
+
+def design_record(model: DesignModel, x, combo_index: int) -> dict:
+    """JSON-ready description of one design: the design values with units, requirements,
+    objective, and per case the link budget and every output."""
+    spec = model.spec
+    combo = model.combo_table[combo_index]
+    x = np.asarray(x, dtype=float)
+    design = design_table(model, x, combo_index)
     choices = dict(model.combinations[combo_index].options)
     evaluations, _, raw_objective = model.evaluate_all(x, combo)
     cases = {}

@@ -1,0 +1,329 @@
+"""Assemble a design report: evaluate, differentiate, sweep, draw and write.
+
+:func:`build_report` runs each section independently: a section that cannot be computed
+(a missing output, a derivative JAX does not implement, a degenerate optimum) is listed under
+``unavailable`` with its reason, and the rest of the report is still written.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import time
+from pathlib import Path
+from typing import Dict, List, Optional
+
+import numpy as np
+
+from ..design import DesignModel, design_table
+from ..spec import load_spec
+from . import figures
+from .batch import BatchEvaluator, row
+from .content import report_blocks
+from .inputs import design_inputs, input_evaluator
+from .jacobian import jacobian_section
+from .postoptimal import post_optimal_section
+from .render import si_text, unit_text, write_report
+from .sweeps import blake_coverage, budget_rows, input_index, main_margin, range_sweep, roc_sweep
+
+FIGURE_DIR = "figures"
+_EVALUATORS: Dict[tuple, BatchEvaluator] = {}
+_MAX_EVALUATORS = 4
+
+
+def _evaluator(model: DesignModel, inputs, combo_index: int, spec_text: bytes) -> BatchEvaluator:
+    """The compiled evaluator of this spec's structure (reused between reports of one spec)."""
+    key = (hashlib.sha256(spec_text).hexdigest(), combo_index,
+           tuple((i.name, i.param, i.cases, i.kind) for i in inputs))
+    if key not in _EVALUATORS:
+        if len(_EVALUATORS) >= _MAX_EVALUATORS:
+            _EVALUATORS.pop(next(iter(_EVALUATORS)))
+        _EVALUATORS[key] = BatchEvaluator(model, inputs, combo_index)
+    return _EVALUATORS[key]
+
+
+def _reason(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0] if text else ''}".strip()
+
+
+def _objective_unit(model: DesignModel) -> str:
+    terms = model.spec.objective.terms
+    if len(terms) == 1 and terms[0][0] != "cost":
+        name = terms[0][0]
+        case, base = name.split(".", 1) if "." in name else (next(iter(model.spec.scenes)), name)
+        return model.spec.unit_of(case, base)
+    return ""  # a weighted sum of terms in different units
+
+
+def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8, seed: int = 0,
+                 optimum=None) -> dict:
+    """Write ``report.md``, ``report.html``, ``report.json`` and the figures (PNG, in
+    ``out_dir/figures``) for the spec ``spec_path``; return the report dict (as in the JSON).
+
+    ``optimize``: report the optimum of :func:`~diffsense.design_optimizer.optimize_design`
+    (``n_starts``, ``seed``); ``False`` reports the spec's initial design (each variable's
+    ``initial``, each catalog's first option), like ``diffsense evaluate``.
+    ``optimum``: a :class:`~diffsense.design_optimizer.DesignOptimum` already computed for this
+    spec; it is reported instead of optimising again (``optimize`` is then ignored).
+    Raises :class:`~diffsense.spec.SpecError` for an invalid spec; every other failure only
+    removes the section it concerns (listed under ``unavailable``).
+    """
+    t_start = time.perf_counter()
+    spec_path = Path(spec_path)
+    spec = load_spec(spec_path)
+    model = DesignModel(spec)
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    unavailable: List[dict] = []
+    report: dict = {"name": spec.name, "title": spec.title, "sensor": spec.sensor, "description": spec.description.strip(),
+                    "spec_file": str(spec_path), "objective_text": spec.objective.text}
+
+    multipliers = None
+    optimize = optimize or optimum is not None
+    if optimize:
+        t0 = time.perf_counter()
+        if optimum is None:
+            from ..design_optimizer import optimize_design
+
+            result = optimize_design(model, n_starts=n_starts, seed=seed)
+        else:
+            result = optimum
+        x, combo_index = np.asarray(result.x, dtype=float), int(result.combo_index)
+        multipliers = np.asarray(result.multipliers, dtype=float)
+        report.update(mode="optimum", converged=bool(result.converged), feasible=bool(result.feasible),
+                      unmet=list(result.unmet), candidates=result.candidates,
+                      multistart={"starts": result.starts, "converged": result.starts_converged,
+                                  "reached_best": result.starts_at_best},
+                      optimize_time_s=time.perf_counter() - t0)
+    else:
+        x, combo_index = np.asarray(model.initial, dtype=float), 0
+        report.update(mode="initial_design", converged=None, feasible=None)
+
+    inputs = design_inputs(model, x, combo_index)
+    batch = _evaluator(model, inputs, combo_index, spec_path.read_bytes())
+    v0 = np.array([i.value for i in inputs])
+    values, _ = batch(v0[None, :])
+    evaluations, req_values, objective = row(values, 0)
+    req_values = np.asarray(req_values, dtype=float)
+    report["design"] = design_table(model, x, combo_index)
+    report["choices"] = dict(model.combinations[combo_index].options)
+    report["requirements"] = model.requirement_rows(req_values)
+    if not optimize:
+        report["feasible"] = all(r["met"] for r in report["requirements"])
+    report["objective"] = {"text": spec.objective.text, "value": float(objective), "unit": _objective_unit(model)}
+    report["cases"] = {}
+    for case, ev in evaluations.items():
+        outs = spec.outputs[case]
+        rows = budget_rows(ev)
+        report["cases"][case] = {
+            "parts": sorted(spec.scenes[case].parts),
+            "options": dict(spec.scenes[case].options),
+            "budget": rows,
+            "budget_total_db": rows[-1]["running_total_db"] if rows else None,
+            "outputs": {k: {"value": np.asarray(v), "unit": outs[k].unit if k in outs else ""} for k, v in ev.values.items()},
+        }
+
+    # --- Jacobian and elasticities -------------------------------------------------------
+    out_meta = [{"name": r.name, "case": r.case, "output": r.output, "unit": r.unit} for r in model.requirements]
+    out_meta.append({"name": "objective", "case": None, "output": spec.objective.text, "unit": report["objective"]["unit"]})
+    jac = None
+    try:
+        jac = jacobian_section(batch, inputs, out_meta)
+        report["jacobian"] = {
+            "inputs": [{"name": i.name, "param": i.param, "cases": list(i.cases), "kind": i.kind, "unit": i.unit,
+                        "value": i.value} for i in inputs],
+            "outputs": [dict(o, value=float(v)) for o, v in zip(out_meta, jac["values"])],
+            "autodiff": jac["autodiff"],
+            "autodiff_error": jac["autodiff_error"],
+            "derivative": jac["derivative"],
+            "elasticity": jac["elasticity"],
+            "fd_check": _fd_json(jac["fd_check"], inputs, out_meta),
+        }
+        if not jac["autodiff"]:
+            unavailable.append({"section": "automatic derivatives", "reason": jac["autodiff_error"]})
+    except Exception as exc:  # noqa: BLE001 - a failed section must not stop the report
+        unavailable.append({"section": "Jacobian and elasticities", "reason": _reason(exc)})
+
+    # --- multipliers and post-optimal sensitivities --------------------------------------
+    if optimize:
+        report["multipliers"] = [{"requirement": r.name, "multiplier": float(m)} for r, m in zip(model.requirements, multipliers)]
+        try:
+            if jac is None or not jac["autodiff"]:
+                raise RuntimeError("needs the automatic derivatives of the Jacobian section")
+            post = post_optimal_section(model, inputs, input_evaluator(model, inputs, combo_index), batch, x,
+                                        combo_index, jac["derivative"], req_values, multipliers)
+            report["post_optimal"] = _post_json(post, model, report)
+            if post.get("reason"):
+                unavailable.append({"section": "post-optimal sensitivities d(design)/d(limit)", "reason": post["reason"]})
+        except Exception as exc:  # noqa: BLE001
+            report["post_optimal"] = {"available": False, "reason": _reason(exc)}
+            unavailable.append({"section": "post-optimal sensitivities", "reason": _reason(exc)})
+    else:
+        reason = "the report describes the spec's initial design, not an optimum (build it with optimisation on)"
+        report["post_optimal"] = {"available": False, "reason": reason}
+        unavailable.append({"section": "multipliers and post-optimal sensitivities", "reason": reason})
+
+    # --- figures -------------------------------------------------------------------------
+    figs, skipped = _figures(out_dir, model, inputs, batch, report, jac)
+    report["figures"] = figs
+    report["skipped_figures"] = skipped
+    report["unavailable"] = unavailable
+    report["report_time_s"] = time.perf_counter() - t_start
+    blocks = report_blocks(report)
+    paths = write_report(out_dir, report, blocks)
+    report["files"] = {k: str(p) for k, p in paths.items()}
+    return report
+
+
+def _fd_json(check: dict, inputs, out_meta) -> dict:
+    def pairs(key):
+        return [{"output": out_meta[i]["name"], "input": inputs[j].name} for i, j in check.get(key, [])]
+
+    return {
+        "max_rel_diff": check.get("max_rel_diff"),
+        "n_compared": check.get("n_compared"),
+        "n_below_resolution": check.get("n_below_resolution"),
+        "not_smooth": pairs("not_smooth"),
+        "one_sided": pairs("one_sided"),
+        "not_finite": pairs("not_finite"),
+        "fd_derivative": check.get("fd"),
+        "rel_diff": check.get("rel_diff"),
+        "status": check.get("status"),
+        "step": check.get("step"),
+        "resolution": check.get("resolution"),
+        "reason": check.get("reason"),
+    }
+
+
+def _per(numerator: str, denominator: str) -> str:
+    """'W per dB'; a dimensionless numerator reads 'per dB', a dimensionless denominator 'per unit'."""
+    return f"{unit_text(numerator)} per {unit_text(denominator) or 'unit'}".strip()
+
+
+def _post_json(post: dict, model: DesignModel, report: dict) -> dict:
+    names = model.variable_names
+    dx = post.get("dx_dlimit")
+    table = None
+    if dx is not None:
+        table = {}
+        for a, r in enumerate(model.requirements):
+            table[r.name] = {n: {"value": dx[i, a], "unit": _per(model.spec.variables[n].unit, r.unit)}
+                             for i, n in enumerate(names)}
+    obj_unit = report["objective"]["unit"]
+    shadow = []
+    for a, r in enumerate(model.requirements):
+        shadow.append({"requirement": r.name, "active": post["active"][a],
+                       "d_objective_d_limit": post["shadow_price_kkt"][a] if post["active"][a] else 0.0,
+                       "d_objective_d_limit_from_optimizer_multiplier": post["shadow_price_optimizer"][a],
+                       "unit": _per(obj_unit or "objective units", r.unit)})
+    return {
+        "available": dx is not None and not post.get("reason"),
+        "reason": post.get("reason"),
+        "method": post.get("method"),
+        "hessian": post.get("hessian"),
+        "hessian_note": post.get("hessian_note"),
+        "hessian_fd_rel_diff": post.get("hessian_fd_rel_diff"),
+        "variable_status": dict(zip(names, post["variable_status"])),
+        "active_requirements": [r.name for r, a in zip(model.requirements, post["active"]) if a],
+        "weakly_active": [model.requirements[a].name for a in post.get("weakly_active", [])],
+        "stationarity_rel_residual": post.get("stationarity_rel_residual"),
+        "dx_dlimit": table,
+        "shadow_prices": shadow,
+    }
+
+
+def _figures(out_dir: Path, model: DesignModel, inputs, batch, report: dict, jac: Optional[dict]):
+    figs: List[dict] = []
+    skipped: List[dict] = []
+    spec = model.spec
+    fdir = out_dir / FIGURE_DIR
+
+    def attempt(name: str, title: str, caption: str, fn):
+        try:
+            path = fn(fdir / f"{name}.png")
+            figs.append({"file": f"{FIGURE_DIR}/{path.name}", "title": title, "caption": caption})
+        except Exception as exc:  # noqa: BLE001 - a figure that cannot be drawn is listed, not fatal
+            skipped.append({"figure": title, "reason": _reason(exc)})
+
+    for case, data in report["cases"].items():
+        tag = "" if len(report["cases"]) == 1 else f" ({case})"
+        outs = data["outputs"]
+        m = main_margin(model, case)
+        needed = None
+        label = "SNR needed"
+        if m is not None and "snr_db" in outs:
+            req = model.requirements[m]
+            needed = float(outs["snr_db"]["value"]) - float(outs[req.output]["value"]) + req.limit
+            label = f"SNR needed by '{req.name}'"
+        if data["budget"]:
+            attempt(f"budget_{case}", f"Link budget{tag}",
+                    f"Link budget{tag}: each term (dB) as a bar from the running total before it to the one after it; "
+                    "the last bar is the SNR, the sum of the terms.",
+                    lambda p, d=data, nd=needed, lb=label: figures.waterfall(
+                        p, d["budget"], title=f"{spec.title}: link budget{tag}", required_db=nd, required_label=lb))
+        else:
+            skipped.append({"figure": f"Link budget{tag}", "reason": "the chain produces no budget"})
+        p_idx = input_index(inputs, "pd", case)
+        pfa_idx = input_index(inputs, "pfa", case)
+        req_pd = inputs[p_idx].value if p_idx is not None else None
+        pfa = inputs[pfa_idx].value if pfa_idx is not None else None
+        try:
+            sweep = range_sweep(batch, model, inputs, case)
+        except Exception as exc:  # noqa: BLE001
+            sweep = None
+            for t in ("SNR versus range", "Pd versus range"):
+                skipped.append({"figure": f"{t}{tag}", "reason": _reason(exc)})
+        if sweep is not None:
+            if "snr_db" in sweep["outputs"]:
+                attempt(f"snr_vs_range_{case}", f"SNR versus range{tag}",
+                        f"SNR{tag} against range with every other input at its design value; dotted: the range the "
+                        "requirements are stated at; the marker shows where the main margin requirement is just met.",
+                        lambda p: figures.snr_vs_range(p, sweep, title=f"{spec.title}: SNR versus range{tag}"))
+            else:
+                skipped.append({"figure": f"SNR versus range{tag}", "reason": "the chain has no snr_db output"})
+            if "pd" in sweep["outputs"]:
+                attempt(f"pd_vs_range_{case}", f"Pd versus range{tag}",
+                        f"Probability of detection{tag} against range: the chain's pd output (its detector and "
+                        "target statistics, at the mean target strength).",
+                        lambda p: figures.pd_vs_range(p, sweep, required_pd=req_pd, pfa=pfa,
+                                                      title=f"{spec.title}: Pd versus range{tag}"))
+            else:
+                skipped.append({"figure": f"Pd versus range{tag}", "reason": "the chain has no pd output for this scene"})
+        attempt(f"roc_{case}", f"ROC{tag}",
+                f"Receiver operating characteristic{tag}: the chain's Pd as Pfa varies over the chain's domain of "
+                "pfa, at the design (its range and SNR) and at the longer ranges where the design's Pd falls to "
+                "0.9, 0.5 and 0.1; the star is the required operating point.",
+                lambda p: figures.roc(p, roc_sweep(batch, inputs, case), required_pd=req_pd,
+                                      title=f"{spec.title}: ROC{tag}"))
+        if spec.sensor == "radar":
+            attempt(f"coverage_{case}", f"Coverage chart (Blake){tag}",
+                    f"Range-height coverage{tag} over the 4/3 earth. Assumptions: the main margin requirement "
+                    "defines detection; Gaussian elevation beam of the chain's elevation beamwidth, boresight half a "
+                    "beamwidth above the horizon, two-way pattern loss added to the chain's margin at each range "
+                    "(the margin as the case computes it, including any clutter or multipath term at the case's own "
+                    "target height: lobing with elevation angle is not modelled); antenna height 0 m unless the "
+                    "scene has antenna_height_m.",
+                    lambda p: figures.blake_chart(p, blake_coverage(batch, model, inputs, case),
+                                                  title=f"{spec.title}: coverage over the 4/3 earth{tag}"))
+        else:
+            skipped.append({"figure": f"Coverage chart (Blake){tag}",
+                            "reason": f"a Blake range-height chart describes a radar beam over the refracting "
+                                      f"atmosphere; it does not apply to a {spec.sensor}"})
+    if jac is not None:
+        labels = [f"{i.name} = {si_text(i.value, i.unit)}" for i in inputs]
+        status = jac["fd_check"].get("status")
+        for a, r in enumerate(model.requirements):
+            marked = [lab + (" (kink)" if status is not None and status[a, j] == "not_smooth" else "")
+                      for j, lab in enumerate(labels)]
+            attempt(f"tornado_{a}", f"Elasticities of '{r.name}'",
+                    f"Elasticity of {r.case}.{r.output} with respect to each input (dB per dB, or % per % for linear "
+                    "quantities), largest influence at the top; green raises the output, red lowers it. "
+                    "'(kink)': the output is not smooth in that input at the design; the bar is the "
+                    "automatic derivative, a one-sided slope.",
+                    lambda p, a=a, r=r, marked=marked: figures.tornado(
+                        p, marked, jac["elasticity"][a], title=f"Elasticities of {r.output} ('{r.name}')",
+                        xlabel="Elasticity (dB per dB; % per % for linear quantities)"))
+    return figs, skipped
+
+
+__all__ = ["build_report", "FIGURE_DIR"]

@@ -1,0 +1,255 @@
+"""Post-optimal sensitivity: how the optimal design and objective move per unit change of each
+requirement limit.
+
+At the optimum x* of the chosen catalog combination, with integer variables held at their
+rounded values, variables on a bound held there and A the set of active requirements
+(requirement value v_a(x) on its limit b_a), the continuous free variables y (ln x for
+log-scaled variables, x otherwise) satisfy the KKT conditions
+
+    ∇F(y) + Σ_a μ_a ∇v_a(y) = 0,        v_a(y) − b_a = 0   (a ∈ A),
+
+F the objective in its minimised form. Differentiating with respect to the limits b (the
+implicit function theorem; Fiacco 1983 §3.2, Nocedal & Wright 2006 §12.8) gives
+
+    [ W   Aᵀ ] [ dy/db ]   [ 0 ]
+    [ A   0  ] [ dμ/db ] = [ I ],       W = ∇²F + Σ μ_a ∇²v_a,  A = ∂v_A/∂y,
+
+and the envelope theorem gives the shadow prices dF*/db_a = −μ_a. The multipliers μ are
+recomputed from the stationarity condition with the report's own derivatives (least
+squares, its residual reported) and compared with the optimiser's multipliers. When as many
+requirements are active as there are free variables and A is nonsingular (a vertex), dy/db =
+A⁻¹ and W is not needed.
+
+W comes from ``jax.hessian`` (forward over reverse mode) of the Lagrangian in the free
+variables only. Where a second derivative is not implemented in JAX (e.g. through
+``igamma``'s derivative in its shape parameter), W is computed by a fourth-order central
+difference of the forward-mode gradients instead, and the report says so; where both exist the
+report gives their largest difference relative to max |W| as a check.
+
+Reported per variable: ``free`` (a derivative), ``lower``/``upper`` bound (derivative 0 while
+the bound stays active), ``integer`` (held at its rounded value: derivative 0 locally, the
+rounding may jump), ``not_unique`` (neither the objective nor an active requirement depends
+on it to second order: the optimum is a continuum along it and has no derivative). Inactive
+requirements have derivative 0 (a small change of their limit leaves the optimum unchanged).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import List
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..design import DesignModel
+from .inputs import Input
+
+ACTIVE_TOL = 1e-6  # scaled residual above which an inequality counts as active
+BOUND_TOL = 1e-7  # distance to a bound, relative to the (log-)width of the box
+FLAT_TOL = 1e-9
+
+
+def _status(model: DesignModel, x) -> List[str]:
+    out = []
+    for i, _ in enumerate(model.variable_names):
+        lo, hi, xi = model.lower[i], model.upper[i], x[i]
+        if model.integer[i]:
+            out.append("integer")
+            continue
+        if model.log_scale[i]:
+            width, dlo, dhi = math.log(hi / lo), math.log(xi / lo), math.log(hi / xi)
+        else:
+            width, dlo, dhi = hi - lo, xi - lo, hi - xi
+        out.append("lower" if dlo <= BOUND_TOL * width else "upper" if dhi <= BOUND_TOL * width else "free")
+    return out
+
+
+def _objective_scale(model: DesignModel, x, combo) -> float:
+    raw = float(model.raw_objective(jnp.asarray(x), jnp.asarray(combo)))
+    norm = float(model.objective(jnp.asarray(x), jnp.asarray(combo)))
+    return raw / norm if norm != 0 else float("nan")
+
+
+def post_optimal_section(model: DesignModel, inputs: List[Input], evaluator, batch, x, combo_index: int,
+                         derivative, req_values, multipliers) -> dict:
+    """Sensitivities of the optimum (module docstring).
+
+    ``evaluator``: :func:`~diffsense.report.inputs.input_evaluator` of ``inputs``; ``batch``:
+    the report's :class:`~diffsense.report.batch.BatchEvaluator`; ``derivative``: the report
+    Jacobian (requirements then objective × inputs); ``req_values``: requirement outputs at x;
+    ``multipliers``: the optimiser's (normalised) multipliers."""
+    x = np.asarray(x, dtype=float)
+    combo = model.combo_table[combo_index]
+    req_values = np.asarray(req_values, dtype=float)
+    lam_opt = np.asarray(multipliers, dtype=float)
+    n_req = len(model.requirements)
+    scaled = model.sign * (req_values - model.limits) / model.scales
+    active = model.is_equality | (scaled >= -ACTIVE_TOL) | (lam_opt > 0.0)
+    status = _status(model, x)
+    var_cols = [next(k for k, inp in enumerate(inputs) if inp.kind == "variable" and inp.param == n)
+                for n in model.variable_names]
+    free = [i for i, s in enumerate(status) if s == "free"]
+    obj_sign = model.spec.objective.sign
+    # derivatives in y (ln x for log-scaled variables)
+    dy_dx = np.array([x[i] if model.log_scale[i] else 1.0 for i in range(len(x))])
+    D = np.asarray(derivative, dtype=float)
+    grad_F = obj_sign * D[n_req, var_cols] * dy_dx  # minimised form F = sign * objective value
+    jac_v = D[:n_req][:, var_cols] * dy_dx[None, :]
+    act = np.flatnonzero(active)
+    A = jac_v[np.ix_(act, free)]
+    gF = grad_F[free]
+
+    # variables on which neither F nor an active requirement depends to first order
+    tiny_F = FLAT_TOL * max(1.0, float(np.max(np.abs(grad_F))) if grad_F.size else 1.0)
+    flat_first = [j for j, i in enumerate(free)
+                  if abs(gF[j]) <= tiny_F and (A.shape[0] == 0 or np.all(np.abs(A[:, j]) <= FLAT_TOL * max(1.0, np.max(np.abs(A)))))]
+
+    # multipliers from stationarity on the free variables: gF + Aᵀ μ = 0
+    mu = np.full(act.size, np.nan)
+    stationarity = None
+    if act.size and len(free):
+        mu_ls, *_ = np.linalg.lstsq(A.T, -gF, rcond=None)
+        mu = mu_ls
+        stationarity = float(np.max(np.abs(gF + A.T @ mu)) / max(float(np.max(np.abs(gF))), 1e-300))
+    obj_scale = _objective_scale(model, x, combo)
+    shadow_opt = -obj_sign * lam_opt * model.sign / model.scales * obj_scale
+    shadow_kkt = np.full(n_req, np.nan)
+    shadow_kkt[act] = -obj_sign * mu
+
+    section = {
+        "active": [bool(a) for a in active],
+        "variable_status": status,
+        "shadow_price_optimizer": shadow_opt,
+        "shadow_price_kkt": shadow_kkt,
+        "stationarity_rel_residual": stationarity,
+        "hessian": None,
+        "hessian_note": None,
+        "hessian_fd_rel_diff": None,
+        "dx_dlimit": None,
+        "reason": None,
+    }
+
+    keep = [j for j in range(len(free)) if j not in flat_first]
+    need_hessian = bool(flat_first) or len(keep) != act.size
+    W = None
+    if need_hessian and len(free):
+        W, note, check = _lagrangian_hessian(model, inputs, evaluator, batch, x, free, var_cols, act, mu, obj_sign)
+        section["hessian"] = "exact (jax.hessian)" if note is None else "central differences of forward-mode gradients"
+        section["hessian_note"] = note
+        section["hessian_fd_rel_diff"] = check
+    flat = []
+    if W is not None:
+        wmax = max(float(np.max(np.abs(W))), 1e-300)
+        flat = [j for j in flat_first if np.all(np.abs(W[j, :]) <= 1e-8 * wmax)]
+        keep = [j for j in range(len(free)) if j not in flat]
+    elif flat_first:
+        flat = flat_first
+    for j in flat:
+        status[free[j]] = "not_unique"
+    section["variable_status"] = status
+
+    dx = np.zeros((len(x), n_req))
+    for j in flat:
+        dx[free[j], :] = np.nan
+    if act.size == 0 or not keep:
+        section["dx_dlimit"] = dx
+        section["method"] = "no active requirement on a free variable: the optimum does not move with the limits"
+        return section
+    Ak = A[:, keep]
+    try:
+        if len(keep) == act.size and np.linalg.matrix_rank(Ak) == act.size:
+            dy = np.linalg.solve(Ak, np.eye(act.size))  # (keep, act)
+            section["method"] = "vertex: dy/db = A⁻¹ (as many active requirements as free variables)"
+        else:
+            if W is None:
+                raise np.linalg.LinAlgError("the Hessian of the Lagrangian is not available")
+            Wk = W[np.ix_(keep, keep)]
+            K = np.block([[Wk, Ak.T], [Ak, np.zeros((act.size, act.size))]])
+            rhs = np.vstack([np.zeros((len(keep), act.size)), np.eye(act.size)])
+            cond = np.linalg.cond(K)
+            if not np.isfinite(cond) or cond > 1e14:
+                raise np.linalg.LinAlgError(f"KKT matrix singular (condition number {cond:.3g}): degenerate active set")
+            sol = np.linalg.solve(K, rhs)
+            dy = sol[:len(keep)]
+            section["method"] = "implicit function theorem on the active-set KKT system"
+    except np.linalg.LinAlgError as exc:
+        section["reason"] = str(exc)
+        return section
+    for jj, j in enumerate(keep):
+        i = free[j]
+        dx[i, act] = dy[jj] * dy_dx[i]
+    section["dx_dlimit"] = dx
+    weak = [int(a) for k, a in enumerate(act) if abs(mu[k]) <= 1e-9 * max(1.0, float(np.max(np.abs(mu))))]
+    section["weakly_active"] = weak
+    return section
+
+
+def _lagrangian_hessian(model, inputs, evaluator, batch, x, free, var_cols, act, mu, obj_sign):
+    """W over the free variables (in y); returns (W, note, check): ``note`` is None when W is
+    exact, ``check`` the largest difference between the exact W and its finite-difference
+    estimate relative to max |W| (None when only the estimate exists)."""
+    base = {k: float(inp.value) for k, inp in enumerate(inputs)}
+    for i, k in enumerate(var_cols):
+        base[k] = float(x[i])
+    logs = [bool(model.log_scale[i]) for i in free]
+    cols = [var_cols[i] for i in free]
+    y0 = np.array([math.log(x[i]) if model.log_scale[i] else x[i] for i in free])
+    mu_full = np.zeros(len(model.requirements))
+    mu_full[act] = np.nan_to_num(mu)
+
+    def lagrangian(y, m):
+        d = dict(base)
+        for j, k in enumerate(cols):
+            d[k] = jnp.exp(y[j]) if logs[j] else y[j]
+        _, req, objective = evaluator(d)
+        return obj_sign * objective + jnp.dot(m, req)
+
+    W_fd = None
+    if batch.tangents_available:
+        W_fd = _hessian_by_differences(batch, inputs, base, cols, logs, y0, mu_full, obj_sign)
+    try:
+        W = np.asarray(jax.jit(jax.hessian(lagrangian))(jnp.asarray(y0), jnp.asarray(mu_full)))
+        if np.all(np.isfinite(W)):
+            W = 0.5 * (W + W.T)
+            check = None
+            if W_fd is not None:
+                check = float(np.max(np.abs(W_fd - W)) / max(float(np.max(np.abs(W))), 1e-300))
+            return W, None, check
+        note = "jax.hessian returned non-finite values"
+    except NotImplementedError as exc:
+        note = f"second derivative not implemented in JAX ({exc})"
+    if W_fd is None:
+        raise np.linalg.LinAlgError("no derivatives available for the Hessian")
+    return W_fd, note, None
+
+
+def _hessian_by_differences(batch, inputs, base, cols, logs, y0, mu_full, obj_sign):
+    """W by fourth-order central differences (step 1e-3 in y) of the forward-mode gradient."""
+    v0 = np.array([base[k] for k in range(len(inputs))])
+    n = len(cols)
+    h = 1e-3
+    rows, tans = [], []
+    for j in range(n):
+        for s in (-2, -1, 1, 2):
+            yj = y0.copy()
+            yj[j] += s * h * (1.0 if logs[j] else max(1.0, abs(y0[j])))
+            r = v0.copy()
+            for q, k in enumerate(cols):
+                r[k] = math.exp(yj[q]) if logs[q] else yj[q]
+            for t in range(n):
+                tv = np.zeros(len(inputs))
+                tv[cols[t]] = math.exp(yj[t]) if logs[t] else 1.0  # tangent of x along y_t
+                rows.append(r)
+                tans.append(tv)
+    _, (_, req_t, obj_t) = batch(np.array(rows), np.array(tans))
+    g = (obj_sign * np.asarray(obj_t) + np.asarray(req_t) @ mu_full).reshape(n, 4, n)
+    W = np.zeros((n, n))
+    for j in range(n):
+        hj = h * (1.0 if logs[j] else max(1.0, abs(y0[j])))
+        fm2, fm1, fp1, fp2 = g[j]
+        W[:, j] = (fm2 - 8.0 * fm1 + 8.0 * fp1 - fp2) / (12.0 * hj)
+    return 0.5 * (W + W.T)
+
+
+__all__ = ["post_optimal_section"]

@@ -38,6 +38,22 @@ differentiable implicitly; ``detection_range_found`` is 1 where a crossing exist
 the SNR oscillates with range and the solver returns one crossing inside the bracket, not
 necessarily the farthest.
 
+Tracking (part ``"tracking"``), evaluated at ``range_m`` with the single-pulse ``snr_db`` of the
+budget (noise only: clutter and jamming are not in the tracking noise):
+  * range: an α-β filter sampled at the PRF (T = 1/f_p) smooths a split-gate range tracker of
+    gate c τ/2. Measurement noise σ_R = (c τ/2)/(2.5 √(2 SNR)), output noise σ_R √K_x with the
+    variance reduction K_x = Σh² of the position transfer function, lag a T²(1 − α)/β behind a
+    constant acceleration a, and the book's cost √(lag² + σ²) (book §13.4.1, §13.6 ``ablag.m``).
+    β follows α by the Benedict–Bordner relation β = α²/(2 − α) (book eq 13.11) or, with the
+    option ``tracking_gains="critically_damped"``, α = 2√β − β (book eq 13.12);
+  * angle: a type-2 servo of noise bandwidth β_n with a monopulse error slope k_m: noise
+    θ3dB² β_n/(2 k_m² f_p βτ SNR) with θ3dB the azimuth beamwidth and βτ = bandwidth_hz ×
+    pulse_width_s, dynamic lag a/(R · 2.5 β_n²) and their sum σ_θ² (book eqs
+    14.9-14.11); the bandwidth β_o that minimises σ_θ² (book eq 14.12); and β_n over the
+    positioner's lowest resonance, which the book keeps below 10 % (§14.6).
+  The same acceleration a drives the range and the angle lag (the book applies eq 14.10 to
+  each axis with its own component; here one worst-case value).
+
 Detectability (static option ``detectability``):
   * ``"exact"`` — :func:`diffsense.detection.required_snr_db` (exact Swerling 0-4, real N).
     Noncoherent: required per-pulse SNR for N pulses; coherent: single-pulse value − 10 log10 N.
@@ -74,6 +90,7 @@ from ..propagation.rain import rain_attenuation_db_per_km
 from ..propagation.refraction import radar_horizon_m
 from ..rootfind import decreasing_root_log
 from .. import clutter as _clutter
+from .. import tracking as _trk
 from . import equation as eq
 
 __all__ = ["RadarChain", "PARTS", "OPTIONS", "ATTENUATION_PARTS", "CLUTTER_PARTS"]
@@ -94,6 +111,7 @@ PARTS = {
     "wall_clutter": "shaft-wall clutter of the ore pass in the range gate c tau/2 seen by the beam (book 8.16.6)",
     "multipath": "two-ray sea multipath on the target path, 40 log10|F| (Blake 1986)",
     "jammer": "noise jammer, self-screening or stand-off (book 9.10)",
+    "tracking": "range (alpha-beta filter, split gate) and angle (type-2 servo, monopulse) tracking errors at range_m (book 13.4-13.6, 14.6-14.7)",
 }
 ATTENUATION_PARTS = ("gas", "rain", "fog", "dust")
 CLUTTER_PARTS = ("rain_clutter", "dust_clutter", "sea_clutter", "wall_clutter")
@@ -111,6 +129,7 @@ OPTIONS = {
     "polarization": ("horizontal", ("horizontal", "vertical")),
     "jammer_type": ("self_screening", ("self_screening", "stand_off")),
     "wall_illumination": ("gaussian_beam", ("gaussian_beam", "filled")),
+    "tracking_gains": ("benedict_bordner", ("benedict_bordner", "critically_damped")),
 }
 
 #: The book's circular-aperture beamwidth rule θ = 70 λ/d degrees, as a factor on λ/d (rad).
@@ -218,6 +237,41 @@ def jamming_power_dbw(jammer_power_w, jammer_gain_db, radar_gain_db, wavelength_
     j = eq.jamming_power_w(jammer_power_w, jammer_gain_db, radar_gain_db, wavelength_m, jammer_range_m,
                            jammer_bandwidth_hz, receiver_bandwidth_hz)
     return _db10(j) - one_way_attenuation_db
+
+
+@scene_part("tracking")
+def tracking_beta_benedict_bordner(alpha):
+    """Velocity gain β = α²/(2 − α) of the α-β range tracker (book eq 13.11)."""
+    return _trk.benedict_bordner_beta(alpha)
+
+
+@scene_part("tracking")
+def tracking_beta_critically_damped(alpha):
+    """Velocity gain β = (1 − √(1 − α))² of the critically damped α-β tracker (book eq 13.12)."""
+    return _trk.critically_damped_beta(alpha)
+
+
+@scene_part("tracking")
+def range_tracking_errors(alpha, beta, gate_m, snr_db, prf_hz, acceleration_m_s2):
+    """Split-gate noise σ_R (m), variance reduction K_x and acceleration lag (m) of the α-β
+    range tracker sampled at the PRF (book §13.6 ``ablag.m``)."""
+    sigma = _trk.split_gate_range_noise_m(gate_m, snr_db)
+    vrr = _trk.alpha_beta_position_variance_ratio(alpha, beta)
+    lag = _trk.alpha_beta_acceleration_lag_m(acceleration_m_s2, 1.0 / prf_hz, alpha, beta)
+    return sigma, vrr, lag
+
+
+@scene_part("tracking")
+def angle_tracking_errors(bandwidth_hz, beamwidth_rad, prf_hz, bandwidth_pulse_product, snr_db, acceleration_m_s2,
+                          range_m, monopulse_slope):
+    """Servo angle tracking (book eqs 14.9-14.12): thermal-noise variance (rad²), dynamic lag
+    (rad) and the optimum noise bandwidth β_o (Hz)."""
+    noise = _trk.servo_angle_error_variance_rad2(bandwidth_hz, beamwidth_rad, prf_hz, bandwidth_pulse_product, snr_db,
+                                                 jnp.zeros_like(acceleration_m_s2), range_m, monopulse_slope)
+    lag = _trk.servo_dynamic_lag_rad(acceleration_m_s2 / range_m, bandwidth_hz)
+    beta_o = _trk.servo_optimal_bandwidth_hz(beamwidth_rad, prf_hz, bandwidth_pulse_product, snr_db, acceleration_m_s2,
+                                             range_m, monopulse_slope)
+    return noise, lag, beta_o
 
 
 # --- the chain --------------------------------------------------------------------------------
@@ -341,6 +395,21 @@ class RadarChain(Chain):
                     _p("jammer_range_m", "m", "stand-off jammer range", None, 1.0, 1e7, part="jammer"),
                     _p("jammer_sidelobe_gain_db", "dB", "radar antenna gain toward the stand-off jammer (sidelobe)", None, -50.0, 80.0, part="jammer"),
                 ]
+        if scene.has("tracking"):
+            critical = o("tracking_gains") == "critically_damped"
+            ps += [
+                _p("track_alpha", "1", "position gain α of the α-β range tracker (β from α by the option "
+                   "tracking_gains; critically damped needs α < 1)", None, 0.0, 1.0, lo_open=True, hi_open=critical,
+                   part="tracking"),
+                _p("target_acceleration_m_s2", "m/s**2", "target acceleration a driving the range and angle lags "
+                   "(book 13.6 ablag.m: 10 m/s²)", 10.0, 0.0, 1e4, lo_open=True, part="tracking"),
+                _p("servo_bandwidth_hz", "Hz", "equivalent noise bandwidth β_n of the type-2 angle servo (book 14.7)",
+                   None, 0.0, 1e3, lo_open=True, part="tracking"),
+                _p("monopulse_slope", "1", "monopulse gain constant k_m (book 14.7: typically 1.6)",
+                   _trk.MONOPULSE_SLOPE_TYPICAL, 0.0, 10.0, lo_open=True, part="tracking"),
+                _p("positioner_resonance_hz", "Hz", "lowest natural resonance of the antenna positioner (book "
+                   "14.6, Fig. 14.19: 10-30 Hz for a 1.5 m antenna)", None, 0.0, 1e4, lo_open=True, part="tracking"),
+            ]
         return collect(ps)
 
     def outputs(self, scene):
@@ -391,6 +460,21 @@ class RadarChain(Chain):
                 outs.append(Output("burn_through_range_m", "m", "range where sjr_db equals required_snr_db"))
         if scene.has("jammer") or any(scene.has(c) for c in CLUTTER_PARTS):
             outs.append(Output("sinr_db", "dB", "signal to noise-plus-jamming-plus-clutter ratio at range_m"))
+        if scene.has("tracking"):
+            outs += [
+                Output("track_beta", "1", "velocity gain β of the α-β range tracker"),
+                Output("range_noise_m", "m", "split-gate measurement noise σ_R = (c τ/2)/(2.5 √(2 SNR)) at range_m"),
+                Output("range_variance_reduction", "1", "K_x = Σh², output over input noise variance of the α-β filter"),
+                Output("range_track_noise_m", "m", "range noise after the α-β filter σ_R √K_x"),
+                Output("range_lag_m", "m", "steady lag of the smoothed range behind the acceleration, a T²(1 − α)/β"),
+                Output("range_track_error_m", "m", "√(lag² + (σ_R √K_x)²), the book's range tracking cost"),
+                Output("angle_noise_rad", "rad", "rms thermal-noise angle error of the servo (book eq 14.11, first term)"),
+                Output("angle_lag_rad", "rad", "servo dynamic lag a/(R 2.5 β_n²) (book eq 14.10)"),
+                Output("angle_error_rad", "rad", "rms angle tracking error √σ_θ² (book eq 14.11)"),
+                Output("cross_range_error_m", "m", "range_m × angle_error_rad"),
+                Output("servo_optimal_bandwidth_hz", "Hz", "servo noise bandwidth minimising σ_θ² (book eq 14.12)"),
+                Output("servo_resonance_ratio", "1", "β_n over the positioner resonance (book 14.6: below 0.1)"),
+            ]
         return {out.name: out for out in outs}
 
     # ----- evaluation -----
@@ -624,7 +708,40 @@ class RadarChain(Chain):
                 parts_db.append((s0 - v["scr_db"]) / _DB)
             interference = _DB * logsumexp(jnp.stack(jnp.broadcast_arrays(*parts_db)), axis=0)
             v["sinr_db"] = s0 - interference
+        if scene.has("tracking"):
+            v.update(self._tracking(scene, p, snr, bw_az))
         return Evaluation(budget, v)
+
+    def _tracking(self, scene, p, snr_db, beamwidth_rad):
+        """Range and angle tracking outputs at range_m (part "tracking")."""
+        alpha = p["track_alpha"]
+        if self.option(scene, "tracking_gains") == "critically_damped":
+            beta = tracking_beta_critically_damped(alpha)
+        else:
+            beta = tracking_beta_benedict_bordner(alpha)
+        accel = p["target_acceleration_m_s2"]
+        sigma, vrr, lag = range_tracking_errors(alpha, beta, eq.range_resolution_m(p["pulse_width_s"]), snr_db,
+                                                p["prf_hz"], accel)
+        track_noise = sigma * jnp.sqrt(vrr)
+        bn = p["servo_bandwidth_hz"]
+        noise_var, angle_lag, beta_o = angle_tracking_errors(bn, beamwidth_rad, p["prf_hz"],
+                                                             p["bandwidth_hz"] * p["pulse_width_s"], snr_db, accel,
+                                                             p["range_m"], p["monopulse_slope"])
+        angle_error = jnp.sqrt(noise_var + angle_lag * angle_lag)
+        return {
+            "track_beta": beta,
+            "range_noise_m": sigma,
+            "range_variance_reduction": vrr,
+            "range_track_noise_m": track_noise,
+            "range_lag_m": lag,
+            "range_track_error_m": jnp.sqrt(lag * lag + track_noise * track_noise),
+            "angle_noise_rad": jnp.sqrt(noise_var),
+            "angle_lag_rad": angle_lag,
+            "angle_error_rad": angle_error,
+            "cross_range_error_m": p["range_m"] * angle_error,
+            "servo_optimal_bandwidth_hz": beta_o,
+            "servo_resonance_ratio": bn / p["positioner_resonance_hz"],
+        }
 
     def _required_snr(self, scene, p):
         """(required per-pulse SNR, integration gain, single-pulse requirement) in dB."""

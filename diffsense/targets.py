@@ -297,21 +297,27 @@ def rcs_cylinder_m2(radius_m, length_m, wavelength_m, incidence_rad=0.0):
 
 
 def laser_cross_section_lambertian_m2(reflectivity, area_m2, incidence_rad=0.0):
-    """Laser cross section of a diffuse (Lambertian) surface, ``sigma = 4 pi rho A cos(theta)``.
+    """Monostatic laser cross section of a diffuse (Lambertian) surface, ``sigma = 4 rho A cos^2(theta)``.
 
-    Brooker eq. 8.20 (scattering into a solid angle pi). Exact for an ideal Lambertian
-    reflector of hemispherical reflectance rho seen at theta from its normal.
+    The surface of area A intercepts the power of the projected area A cos(theta) and scatters
+    the fraction rho with Lambert's radiant intensity I(t) = rho E A cos(theta) cos(t) / pi,
+    so that sigma = 4 pi I(theta) / E = 4 rho A cos^2(theta). At normal incidence this is the
+    book's sigma = rho G A of eq. 8.15 with the target gain G = 4 pi / Omega = 4 for the
+    solid-angle spread Omega = pi of eqs. 8.16-8.18. Brooker's eq. 8.20 prints
+    sigma = 4 pi rho A cos(theta): a factor pi (4.97 dB) above its own eqs. 8.15-8.18 with
+    Omega = pi, and with one cosine instead of two; this function follows the derivation.
 
     Args:
-        reflectivity: diffuse reflectance rho. Domain [0, 1].
-        area_m2: illuminated area, m^2. Domain [0, inf).
-        incidence_rad: angle from the surface normal, rad. Domain [-pi/2, pi/2].
+        reflectivity: diffuse (hemispherical) reflectance rho. Domain [0, 1].
+        area_m2: physical area of the illuminated surface, m^2. Domain [0, inf).
+        incidence_rad: angle between the line of sight and the surface normal, rad. Domain
+            [-pi/2, pi/2].
     """
     where = "laser_cross_section_lambertian_m2"
     check_range("reflectivity", reflectivity, 0.0, 1.0, where=where)
     check_range("area_m2", area_m2, 0.0, None, where=where)
     check_range("incidence_rad", incidence_rad, -0.5 * math.pi, 0.5 * math.pi, where=where)
-    return 4.0 * jnp.pi * jnp.asarray(reflectivity) * jnp.asarray(area_m2) * jnp.cos(jnp.asarray(incidence_rad))
+    return 4.0 * jnp.asarray(reflectivity) * jnp.asarray(area_m2) * jnp.cos(jnp.asarray(incidence_rad)) ** 2
 
 
 def laser_cross_section_specular_m2(reflectivity, area_m2, wavelength_m):

@@ -189,13 +189,14 @@ def test_lambertian_intensity_normalisation_and_cross_section():
     assert float(ld.lambertian_cross_section_m2(0.37, 2.5, 0.6)) == pytest.approx(float(sigma), rel=1e-14)
 
 
-def test_lambertian_cross_section_is_book_eq_8_20_over_pi():
-    # Brooker eq. (8.20) prints σ = 4πρA cos θ (A projected). The BRDF-based value at normal
-    # incidence is 4ρA: a factor π (4.97 dB) apart. Recorded here; see the range_equation
-    # module docstring (the book's own eqs (8.16)-(8.18) with Ω = π give 4ρA).
-    book = float(laser_cross_section_lambertian_m2(0.5, 3.0, 0.0))
-    ours = float(ld.lambertian_cross_section_m2(0.5, 3.0, 0.0))
-    assert book / ours == pytest.approx(math.pi, rel=1e-14)
+def test_lambertian_cross_section_equals_the_targets_model_not_book_eq_8_20():
+    # Brooker eq. (8.20) prints sigma = 4 pi rho A cos(theta); the book's own eqs (8.15)-(8.18)
+    # with Omega = pi and the Lambertian intensity integral above give 4 rho A cos^2(theta),
+    # which both the lidar chain and diffsense.targets use (the printed form is pi too large).
+    for theta in (0.0, 0.6, 1.2):
+        ours = float(ld.lambertian_cross_section_m2(0.5, 3.0, theta))
+        assert float(laser_cross_section_lambertian_m2(0.5, 3.0, theta)) == pytest.approx(ours, rel=1e-14)
+    assert 4 * math.pi * 0.5 * 3.0 / float(ld.lambertian_cross_section_m2(0.5, 3.0, 0.0)) == pytest.approx(math.pi, rel=1e-14)
 
 
 def test_extended_range_equation_closed_form_and_energy_conservation():

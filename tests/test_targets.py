@@ -55,9 +55,11 @@ def test_ore_pass_rock_footprint_rcs_book_8_16_6():
     assert 10 * math.log10(sigma / clutter) == pytest.approx(5.7, abs=0.05)
 
 
-def test_lambertian_laser_cross_section_book_8_20():
-    assert float(tg.laser_cross_section_lambertian_m2(0.5, 2.0, 0.0)) == pytest.approx(4 * math.pi, rel=1e-15)
-    assert float(tg.laser_cross_section_lambertian_m2(0.5, 2.0, math.pi / 3)) == pytest.approx(2 * math.pi, rel=1e-14)
+def test_lambertian_laser_cross_section_book_8_15_to_8_18():
+    # sigma = rho G A with G = 4 pi / Omega = 4 for Omega = pi (book eqs 8.15-8.18); Lambert's
+    # law and the projected area give cos^2 off the normal (cos^2(60 deg) = 1/4)
+    assert float(tg.laser_cross_section_lambertian_m2(0.5, 2.0, 0.0)) == pytest.approx(4.0, rel=1e-15)
+    assert float(tg.laser_cross_section_lambertian_m2(0.5, 2.0, math.pi / 3)) == pytest.approx(1.0, rel=1e-14)
 
 
 def test_specular_laser_cross_section_is_plate_times_reflectivity_book_8_19():

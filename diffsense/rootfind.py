@@ -70,7 +70,12 @@ def decreasing_root_log(f: Callable, lo, hi, *, iterations: int = 100) -> RootRe
         return u
 
     def tangent_solve(lin, y):
-        return y / lin(jnp.ones_like(y))
+        # where f is flat at the returned point (only possible at a bracket end returned for
+        # lack of a root, whose derivative is discarded below) divide by 1, not by 0: the
+        # discarded branch must stay finite, since 0 x NaN is NaN in the chain rule
+        d = lin(jnp.ones_like(y))
+        flat = d == 0
+        return jnp.where(flat, 0.0, y / jnp.where(flat, 1.0, d))
 
     u0 = 0.5 * (ulo0 + uhi0)
     u = lax.custom_root(g, u0, solve, tangent_solve)

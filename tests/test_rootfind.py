@@ -68,3 +68,12 @@ def test_no_root_inside_bracket_is_flagged_and_has_zero_gradient():
     assert float(g) == 0.0
     res = _solve(500.0, 0.0)  # beyond the 1e9 m upper end
     assert not bool(res.bracketed) and float(res.root) == pytest.approx(1e9)
+
+
+def test_gradient_is_zero_not_nan_where_the_residual_is_flat_and_unbracketed():
+    # no root in [1, 10] and f independent of x there: the bracket end is returned, and its
+    # derivative with respect to the parameter is exactly 0 (the implicit solve divides by f' = 0)
+    def root(c):
+        return decreasing_root_log(lambda x: -c + 0.0 * x, 1.0, 10.0).root
+
+    assert float(jax.grad(root)(2.0)) == 0.0

@@ -314,3 +314,25 @@ def test_cli_report_invalid_spec_exits_2_without_traceback(tmp_path):
     assert "Traceback" not in result.output
     assert "variables.electrical_power_w" in result.output
     assert not (tmp_path / "r" / "report.json").exists()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", sorted(p.stem for p in (ROOT / "designs").glob("*.toml")))
+def test_every_shipped_design_report_builds_and_equals_evaluate(tmp_path, name):
+    # the spec's initial design of every shipped spec: the report's requirement values, budget
+    # and outputs equal `diffsense evaluate` (design_record); nothing in the report is missing
+    from diffsense.design import DesignModel, design_record
+    from diffsense.report import build_report
+    from diffsense.spec import load_spec
+
+    spec = ROOT / "designs" / f"{name}.toml"
+    rep = build_report(spec, tmp_path, optimize=False)
+    model = DesignModel(load_spec(spec))
+    ev = design_record(model, model.initial, 0)
+    for a, b in zip(rep["requirements"], ev["requirements"]):
+        assert a["value"] == pytest.approx(b["value"], rel=1e-10, abs=1e-12), (name, a["name"])
+    for case, c in ev["cases"].items():
+        for t, u in zip(rep["cases"][case]["budget"], c["budget"]):
+            assert t["db"] == pytest.approx(u["db"], rel=1e-12, abs=1e-12), (name, t["term"])
+    for f in ("report.md", "report.html", "report.json"):
+        assert (tmp_path / f).stat().st_size > 0

@@ -2,7 +2,10 @@
 
 Prints time per element and maximum error against the mpmath reference (on a subsample) for
 diffsense (warm jit and cold), scipy's vectorised closed forms, and the `sdr` package where it
-has the function. Run: python benchmarks/bench_detection.py [--points 1000000] [--repeat 7]
+has the function, and draws run time per point against maximum error (one labelled point per
+method) to ``docs/figures/detection_speed_vs_error.png``.
+Run from the repository root:
+PYTHONPATH=. python benchmarks/bench_detection.py [--points 1000000] [--repeat 7] [--plot PATH | --no-plot]
 
 Timings on a shared machine are noisy: the warm timings are interleaved (diffsense, scipy,
 diffsense, ...) and the best of ``--repeat`` rounds is reported, with the throughput ratio
@@ -14,11 +17,12 @@ from __future__ import annotations
 
 import argparse
 import time
+from pathlib import Path
 
 import jax
 import mpmath as mp
 import numpy as np
-from scipy import special, stats
+from scipy import stats
 
 import diffsense.detection as det
 from tests.reference import mp_detection as ref
@@ -46,11 +50,55 @@ def _time_interleaved(fns, repeat):
     return best, outs
 
 
+_DEFAULT_PLOT = Path(__file__).resolve().parent.parent / "docs" / "figures" / "detection_speed_vs_error.png"
+
+
+def _plot(path, pd_rows, rsnr_rows, title_pd, title_rsnr, note):
+    """Run time per point against maximum error, log-log, one labelled marker per method."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(11.5, 5.0), dpi=130)
+    panels = [
+        (axes[0], pd_rows, 1e9, "ns", "Run time per point (ns)", "Maximum |ΔPd| against mpmath", title_pd),
+        (axes[1], rsnr_rows, 1e6, "µs", "Run time per point (µs)", "Maximum |ΔSNR| (dB)", title_rsnr),
+    ]
+    for ax, rows, unit, unit_name, xlabel, ylabel, title in panels:
+        pts = [(name, sec * unit, err) for name, sec, err, _ in rows if np.isfinite(err)]
+        for (name, x, y), (colour, marker) in zip(pts, [("C0", "o"), ("C1", "s"), ("C2", "^"), ("C3", "D"), ("C4", "v")]):
+            ax.scatter([x], [y], s=70, color=colour, marker=marker, zorder=3, label=name)
+            value = f"{x:.0f}" if x >= 100 else f"{x:.3g}"
+            ax.annotate(f"{value} {unit_name}", (x, y), textcoords="offset points", xytext=(0, -15),
+                        ha="center", fontsize=7.5, color=colour)
+        xs = np.array([p[1] for p in pts])
+        ys = np.array([p[2] for p in pts])
+        # Limits: at least a decade around the points so the markers sit inside the axes.
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlim(10 ** np.floor(np.log10(xs.min()) - 0.3), 10 ** np.ceil(np.log10(xs.max()) + 0.3))
+        ax.set_ylim(10 ** np.floor(np.log10(ys.min()) - 0.5), 10 ** np.ceil(np.log10(ys.max()) + 0.5))
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(ylabel)
+        ax.set_title(title, fontsize=10)
+        ax.grid(True, which="major", alpha=0.4)
+        ax.legend(loc="upper left", fontsize=8, framealpha=0.9)
+    fig.suptitle("Detection: run time per point against maximum error (lower left is better)", fontsize=11)
+    fig.text(0.5, 0.012, note, ha="center", fontsize=8, color="0.3", wrap=True)
+    fig.tight_layout(rect=(0, 0.06, 1, 0.96))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path)
+    plt.close(fig)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--points", type=int, default=1_000_000)
     ap.add_argument("--rsnr-points", type=int, default=10_000)
     ap.add_argument("--repeat", type=int, default=7)
+    ap.add_argument("--plot", type=Path, default=_DEFAULT_PLOT, help="PNG of run time against error")
+    ap.add_argument("--no-plot", action="store_true")
     args = ap.parse_args()
     n, pfa = 10, 1e-6
     snr_db = np.linspace(-10.0, 30.0, args.points)
@@ -63,7 +111,7 @@ def main():
 
     f = jax.jit(lambda x: det.pd(x, pfa, n, 0))
     t0 = time.perf_counter()
-    jax.block_until_ready(f(snr_db))
+    out_cold = jax.block_until_ready(f(snr_db))
     cold = time.perf_counter() - t0
     best, outs = _time_interleaved(
         {
@@ -76,16 +124,20 @@ def main():
     unshuffled = np.empty(args.points)
     unshuffled[perm] = np.asarray(outs["shuffled"])
     tsp = best["scipy"]
+    def max_err(values):
+        return float(np.max(np.abs(np.asarray(values)[sub] - truth)))
+
+    # (label, seconds for all points, max error, label in the plot)
     rows = [
-        ("diffsense pd (warm jit)", best["diffsense"], np.max(np.abs(np.asarray(outs["diffsense"])[sub] - truth))),
-        ("diffsense pd (warm jit, SNRs shuffled)", best["shuffled"], np.max(np.abs(unshuffled[sub] - truth))),
-        ("diffsense pd (cold, incl. compile)", cold, np.nan),
-        ("scipy ncx2.sf", tsp, np.max(np.abs(outs["scipy"][sub] - truth))),
+        ("diffsense pd (warm jit)", best["diffsense"], max_err(outs["diffsense"]), "diffsense pd, warm jit"),
+        ("diffsense pd (warm jit, SNRs shuffled)", best["shuffled"], max_err(unshuffled), "diffsense pd, warm, SNRs shuffled"),
+        ("diffsense pd (cold, incl. compile)", cold, max_err(out_cold), "diffsense pd, cold (incl. compilation)"),
+        ("scipy ncx2.sf", tsp, max_err(outs["scipy"]), "scipy stats.ncx2.sf"),
     ]
 
     print(f"\nPd, Swerling 0, N = {n}, Pfa = {pfa:g}, {args.points} points, best of {args.repeat}")
     print(f"{'method':40s} {'s total':>9s} {'ns/point':>9s} {'max |dPd|':>10s} {'vs scipy':>9s}")
-    for name, sec, err in rows:
+    for name, sec, err, _ in rows:
         print(f"{name:40s} {sec:9.3f} {sec / args.points * 1e9:9.1f} {err:10.2e} {tsp / sec:8.2f}x")
     print("(vs scipy: scipy time / time, i.e. throughput relative to scipy; > 1 is faster)")
 
@@ -95,19 +147,41 @@ def main():
     warm, out = _time(lambda: g(pds))
     idx = np.linspace(0, args.rsnr_points - 1, 5).astype(int)
     err = max(abs(float(out[i]) - float(ref.required_snr_mp(pds[i], pfa, n, 1, dps=40))) for i in idx)
-    rows2 = [("diffsense required_snr_db exact (warm)", warm, err)]
+    rows2 = [("diffsense required_snr_db exact (warm)", warm, err, "diffsense required_snr_db (exact), warm jit")]
     try:
         import sdr
 
         ts, out_s = _time(lambda: sdr.shnidman(pds, pfa, n, 1), repeat=1)
         exact = np.asarray(out)
-        rows2.append(("sdr.shnidman (approximation)", ts, float(np.max(np.abs(out_s - exact)))))
+        rows2.append(
+            ("sdr.shnidman (approximation)", ts, float(np.max(np.abs(out_s - exact))), "sdr.shnidman (approximation)")
+        )
     except ImportError:
         pass
     print(f"\nRequired SNR, Swerling 1, N = {n}, Pfa = {pfa:g}, {args.rsnr_points} points")
     print(f"{'method':40s} {'s total':>9s} {'us/point':>9s} {'max |dSNR| dB':>14s}")
-    for name, sec, err in rows2:
+    for name, sec, err, _ in rows2:
         print(f"{name:40s} {sec:9.3f} {sec / args.rsnr_points * 1e6:9.2f} {err:14.2e}")
+
+    if not args.no_plot:
+        per_point = lambda rs, k: [(label, sec / k, e, None) for _, sec, e, label in rs]
+        _plot(
+            args.plot,
+            per_point(rows, args.points),
+            per_point(rows2, args.rsnr_points),
+            f"Pd: Swerling 0, N = {n}, Pfa = {pfa:g}\n{args.points:,} SNRs from -10 to 30 dB",
+            f"Required SNR: Swerling 1, N = {n}, Pfa = {pfa:g}\n{args.rsnr_points:,} Pd values from 0.1 to 0.99",
+            f"{_cpu_count()}-core CPU shared with other work; warm times: best of {args.repeat} interleaved rounds "
+            "(required SNR: best of 3).\nErrors: maximum over 25 Pd and 5 SNR values against 40-digit mpmath "
+            "(sdr: against the exact value).",
+        )
+        print(f"\nplot: {args.plot}")
+
+
+def _cpu_count():
+    import os
+
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
 
 
 if __name__ == "__main__":

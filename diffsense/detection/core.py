@@ -21,11 +21,12 @@ and exchanging the sums gives
 
 The weights ``pois(N+j; T)`` are concentrated within a few sqrt(T) of ``j = T - N`` whatever
 the SNR, so (1) is summed over the window ``T - N - sqrt(2 L T) <= j <= T - N + L/3 +
-sqrt(L^2/9 + 2 L T)`` (Chernoff/Bernstein bounds of the Poisson tails), which bounds the
-truncation error by ``2 exp(-L)`` with L = 40, i.e. 8.5e-18 absolute. The number of terms
-grows like sqrt(T), not with the SNR. The survival ``P(K > j)`` is accumulated downward from the
-top of the window (``P(K > j-1) = P(K > j) + P(K = j)``), a sum of positive terms, so it keeps
-full relative accuracy even when it is tiny (low SNR and Pfa down to 1e-300). The start value
+sqrt(L^2/9 + 2 L T)`` (Chernoff/Bernstein bounds of the Poisson tails, :mod:`._bounds`), which
+bounds the truncation error by ``2 exp(-L)`` with L = 40 in float64, i.e. 8.5e-18 absolute
+(L = 20 in float32: 4.1e-9). The number of terms grows like sqrt(T), not with the SNR. The
+survival ``P(K > j)`` is accumulated downward from the top of the window
+(``P(K > j-1) = P(K > j) + P(K = j)``), a sum of positive terms, so it keeps full relative
+accuracy even when it is tiny (low SNR and Pfa down to 1e-300). The start value
 is the regularized incomplete gamma (Poisson) or beta (negative binomial) function, closed form
 for r = 1, 2.
 
@@ -42,6 +43,28 @@ at integers and smooth in between.
 
 Swerling 2 has the closed form ``Pd = Q(N, T/(1+S))`` because every pulse is an exponential
 with mean 1+S; it is used directly.
+
+**float32** (``DIFFSENSE_X64=0``, inputs float32). The float64 program is unchanged (the
+choices below are made at trace time from the dtype); in float32 the loop differs in four ways,
+each removing an error that float64 hides:
+
+* truncation at L = 20 and the exact Chernoff upper bound of K (:mod:`._bounds`): with the
+  float64 bounds the start value P(K = k_hi) fell below float32's smallest normal number
+  (1.2e-38) whenever the mean of K was below about 1, and the whole sum was lost (Pd = Pfa:
+  errors of 3e-3 to 2.4e-2 at N = 1-10 and low SNR);
+* start values from cancellation-free special functions (``_logpmf``; the negative-binomial
+  probability from its mean, ``log_negbin_pmf_mean``);
+* negative-binomial ratios without the rounded constants 1/q and q, whose rounding repeats at
+  every step;
+* the weights rescaled at their mode. They all derive by recursion from the start weight
+  ``exp(log pois)`` at a window edge (log about -25, rounded to a few 1e-6 relative); at the mode
+  the logarithm is only ``-log(2 pi T)/2`` and accurate to a few 1e-7. So that every walk passes
+  the mode, DOWN walks begin at the window top.
+
+Measured against mpmath (``benchmarks/float32_accuracy.py``, tests/test_detection_float32.py):
+|error| <= 4e-6 for Swerling 0, 1, 3, 4 at N = 1-100, Pfa 1e-3-1e-10, SNR -5...25 dB; Swerling 2
+and the threshold are limited by the float32 accuracy of ``jax.scipy.special.gammaincc``
+(7e-6 at N = 100; its relative error grows to 5e-4 at N = 1000).
 
 **Fast path.** For Swerling 0/5 with one threshold and pulse count for all elements (scalar
 ``T`` and ``N``, e.g. Pd over an SNR grid at fixed Pfa), the value comes from
@@ -60,25 +83,14 @@ import jax
 import jax.numpy as jnp
 from jax.scipy.special import digamma, gammaincc
 
-from ._logpmf import log_negbin_pmf, log_poisson_pmf
+from ._bounds import mixing_bounds, tail_exponent, window_bounds
+from ._logpmf import log_negbin_pmf, log_negbin_pmf_mean, log_poisson_pmf
+from ._precision import single_precision
 from .steady import steady_pd
 
 __all__ = ["pd_given_threshold", "SWERLING_CASES", "window_bounds"]
 
 SWERLING_CASES = (0, 1, 2, 3, 4, 5)
-
-# Truncation exponent: each omitted Poisson tail is below exp(-_TAIL_L).
-_TAIL_L = 40.0
-
-
-def window_bounds(threshold, n):
-    """Integer window [j_lo, j_hi] of terms kept in (1) (as floats)."""
-    t = threshold
-    right = _TAIL_L / 3.0 + jnp.sqrt(_TAIL_L**2 / 9.0 + 2.0 * _TAIL_L * t)
-    left = jnp.sqrt(2.0 * _TAIL_L * t)
-    j_hi = jnp.maximum(jnp.ceil(t - n + right), 0.0)
-    j_lo = jnp.clip(jnp.floor(t - n - left), 0.0, j_hi)
-    return j_lo, j_hi
 
 
 def _shape(swerling, n):
@@ -94,40 +106,6 @@ def _shape(swerling, n):
     raise ValueError(f"no mixture shape for swerling={swerling}")
 
 
-def _gamma_chernoff_factors(shape):
-    """Factors (u_lo, u_hi) with P(G < u_lo E[G]) and P(G > u_hi E[G]) each <= exp(-L) for G ~ Gamma(shape).
-
-    The Chernoff bound of the gamma law is exp(-shape (u - 1 - log u)); both roots of
-    u - log u = 1 + L/shape are found by Newton's method (convex, monotone from the start points).
-    """
-    a = _TAIL_L / shape
-    u = 1.0 + 2.0 * a + 2.0 * jnp.sqrt(a)
-    for _ in range(8):
-        u = u - (u - jnp.log(u) - 1.0 - a) / (1.0 - 1.0 / u)
-    v = jnp.maximum(-(1.0 + a), jnp.log(jnp.maximum(1.0 - jnp.sqrt(2.0 * a), 1e-300)))
-    for _ in range(8):
-        ev = jnp.exp(v)
-        v = v - (ev - v - 1.0 - a) / (ev - 1.0)
-    return jnp.exp(v), u
-
-
-def _poisson_quantile_bounds(lam):
-    """Integers (k_lo, k_hi) with P(Pois(lam) < k_lo), P(Pois(lam) > k_hi) <= exp(-L) (Chernoff/Bernstein)."""
-    k_hi = jnp.ceil(lam + _TAIL_L / 3.0 + jnp.sqrt(_TAIL_L**2 / 9.0 + 2.0 * _TAIL_L * lam))
-    k_lo = jnp.maximum(jnp.floor(lam - jnp.sqrt(2.0 * _TAIL_L * lam)), 0.0)
-    return k_lo, k_hi
-
-
-def _mixing_bounds(mu, r):
-    """Bounds (k_lo, k_hi) outside which the mixing variable K has mass <= 2 exp(-L) per side."""
-    if r is None:
-        return _poisson_quantile_bounds(mu)
-    u_lo, u_hi = _gamma_chernoff_factors(r)
-    k_lo, _ = _poisson_quantile_bounds(mu * u_lo)
-    _, k_hi = _poisson_quantile_bounds(mu * u_hi)
-    return k_lo, k_hi
-
-
 def _log_pmf(swerling, k, mu, r, log_q, log_1mq):
     if r is None:
         return log_poisson_pmf(k, mu)
@@ -135,6 +113,8 @@ def _log_pmf(swerling, k, mu, r, log_q, log_1mq):
         return log_1mq + k * log_q
     if swerling == 3:
         return jnp.log1p(k) + 2.0 * log_1mq + k * log_q
+    if single_precision(mu):
+        return log_negbin_pmf_mean(k, r, mu)
     return log_negbin_pmf(k, r, jnp.exp(log_q))
 
 
@@ -161,7 +141,7 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials):
     else:
         log_q = -jnp.log1p(r / mu)
         log_1mq = -jnp.log1p(mu / r)
-    k_lo, k_hi = _mixing_bounds(mu, r)
+    k_lo, k_hi = mixing_bounds(mu, r, tail_exponent(mu))
 
     # Direction of the recursion. DOWN (K's mean at or below the window top): P(K > j) is summed
     # downward from k_hi, where it is below 2e-18 (Swerling 1/3: exact closed form at the start).
@@ -181,14 +161,26 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials):
     j_start = jnp.where(above, j_lo - 1.0, j_start)
     down = ~up
     pmf0 = jnp.exp(_log_pmf(swerling, j_start, mu, r, log_q, log_1mq))
-    j_first = jnp.clip(j_start, j_lo, j_hi)
+    single = single_precision(mu)
+    if single:
+        # float32: DOWN walks start at the window top even when K's recursion starts lower (its
+        # P(K = j) is 0 until j reaches j_start), so that every walk passes the anchor j_mode
+        # of the weights (see the end of this function).
+        j_loop = jnp.where(down & ~above, jnp.maximum(j_start, j_hi), j_start)
+        pmf_init = jnp.where(j_loop == j_start, pmf0, 0.0)
+        j_mode = jnp.clip(jnp.floor(t - n), j_lo, j_hi)
+    else:
+        j_loop, pmf_init = j_start, pmf0
+    j_first = jnp.clip(j_loop, j_lo, j_hi)
     pois0 = jnp.exp(log_poisson_pmf(n + j_first, t))
     inv_q = jnp.exp(-log_q)
     q_ = jnp.exp(log_q)
     inv_t = 1.0 / t
     zeros = jnp.zeros_like(t)
 
-    state = dict(j=j_start, pois=pois0, pmf=pmf0, surv=surv0, acc=jnp.where(above, 1.0 - q0, 0.0))
+    state = dict(j=j_loop, pois=pois0, pmf=pmf_init, surv=surv0, acc=jnp.where(above, 1.0 - q0, 0.0))
+    if single:
+        state["pois_mode"] = zeros
     if want_snr:
         state["d_mu"] = zeros
     if want_all:
@@ -207,18 +199,28 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials):
         pmf_j = s["pmf"]
         # P(K > j): DOWN keeps it in "surv"; UP keeps F(j) = P(K < j) there.
         tail = jnp.where(down, s["surv"], 1.0 - (s["surv"] + pmf_j))
-        out = {"acc": s["acc"] + jnp.where(inside, pois_j * tail, 0.0)}
+        counted = inside
+        if single:
+            # Above K's start point (float32 DOWN walks begin at the window top) P(K > j) is
+            # below exp(-L) and not summed, as in float64, whose walk begins at that point.
+            counted = inside & (up | (j <= j_start))
+        out = {"acc": s["acc"] + jnp.where(counted, pois_j * tail, 0.0)}
         if want_snr:
             weight = 1.0 if r is None else (j + r) / (r + mu)
             out["d_mu"] = s["d_mu"] + jnp.where(inside, pois_j * pmf_j * weight, 0.0)
         if want_all:
             out["d_t"] = s["d_t"] + jnp.where(inside, pois_j * ((n + j) * inv_t) * pmf_j, 0.0)
-            out["d_n"] = s["d_n"] + jnp.where(inside, pois_j * (log_t - s["psi"]) * tail, 0.0)
+            out["d_n"] = s["d_n"] + jnp.where(counted, pois_j * (log_t - s["psi"]) * tail, 0.0)
             psi_next = jnp.where(down, s["psi"] - 1.0 / (n + j), s["psi"] + 1.0 / (n + j + 1.0))
             out["psi"] = jnp.where(inside, psi_next, s["psi"])
         if r is None:
             ratio_down = j / mu  # a quotient, for the reason given at pois_next below
             ratio_up = mu / (j + 1.0)
+        elif single:
+            # float32: no rounded constant (1/q, q) in the ratio, whose rounding (up to 6e-8)
+            # would repeat at every step: 250 steps at N = 1 drift P(K = j) by 1.5e-5.
+            ratio_down = (j * mu + j * r) / ((j - 1.0 + r) * mu)
+            ratio_up = ((j + r) * mu) / ((j + 1.0) * mu + (j + 1.0) * r)
         else:
             ratio_down = j / (j - 1.0 + r) * inv_q
             ratio_up = (j + r) / (j + 1.0) * q_
@@ -227,12 +229,27 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials):
         # ~2000-term windows at N ~ 1e4); correctly rounded quotients do not accumulate a bias.
         pois_next = jnp.where(down, pois_j * ((n + j) / t), pois_j * (t / (n + j + 1.0)))
         out["surv"] = jnp.where(live, s["surv"] + pmf_j, s["surv"])
-        out["pmf"] = jnp.where(live, pmf_j * jnp.where(down, ratio_down, ratio_up), pmf_j)
+        pmf_next = pmf_j * jnp.where(down, ratio_down, ratio_up)
+        if single:
+            pmf_next = jnp.where(jnp.where(down, j - 1.0, j + 1.0) == j_start, pmf0, pmf_next)
+            out["pois_mode"] = jnp.where(j == j_mode, pois_j, s["pois_mode"])
+        out["pmf"] = jnp.where(live, pmf_next, pmf_j)
         out["pois"] = jnp.where(inside, pois_next, pois_j)
         out["j"] = jnp.where(down, j - 1.0, j + 1.0)
         return out
 
     s = jax.lax.while_loop(cond, body, state)
+    if single:
+        # float32: the weights pois(N + j; T) all derive from the start weight at a window edge,
+        # the exponential of a log-probability of about -25 whose rounding (a few ulp of 25, i.e.
+        # a few 1e-6) scales every term. At the mode of the weights (j = T - N) the
+        # log-probability is only -log(2 pi T)/2, so its exponential is accurate to a few 1e-7:
+        # rescaling by the ratio of that value to the recursion's value there removes the common
+        # factor.
+        pois_mode = jnp.exp(log_poisson_pmf(n + j_mode, t))
+        ok = ~above & (s["pois_mode"] > 0.0)
+        scale = jnp.where(ok, pois_mode / jnp.where(ok, s["pois_mode"], 1.0), 1.0)
+        s = {k: (v * scale if k in ("acc", "d_mu", "d_t", "d_n") else v) for k, v in s.items()}
     pd = jnp.clip(q0 + s["acc"], 0.0, 1.0)
     if not want_snr:
         return pd, None

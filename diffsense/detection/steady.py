@@ -40,11 +40,18 @@ handled by a second loop over the same chunk in which they carry zero mass (chun
 random order therefore pay for both loops: about 2.5 times the time of sorted SNRs).
 
 **Accuracy.** Start values use Loader's saddle-point form with a deviance series valid to
-|v| = 0.35 (see ``_bd0_wide``), so they are accurate to a few ulp of ``|log P|`` even at the
-tail points where the recursions start; the recursions use correctly rounded quotients or a
+|v| = 0.35 (see ``_logpmf.bd0_wide``), so they are accurate to a few ulp of ``|log P|`` even at
+the tail points where the recursions start; the recursions use correctly rounded quotients or a
 double-double reciprocal, so their roundings do not accumulate a bias. Measured against the
 40-digit mpmath reference at a fixed float threshold (N = 1 ... 1e4, Pfa = 0.5 ... 1e-300,
 SNR from 30 dB below to 10 dB above the Pd = 0.5 point): |error| <= 1.5e-14.
+
+**float32.** Same program with precision-dependent choices made at trace time: the truncation
+exponent L = 20 and the exact Chernoff bound for ``k_hi`` (``_bounds``: the float64 bound puts
+P(K = k_hi) below float32's range when N S < 1 and the sum is lost), the float32 splitting
+constant of the double-float reciprocal, and the float32 Stirling remainder of ``_logpmf`` in
+the start weights. Measured against mpmath (N = 1-100, Pfa 1e-3-1e-10, SNR -5...25 dB,
+``benchmarks/float32_accuracy.py``): |error| <= 1.4e-6.
 """
 
 from __future__ import annotations
@@ -55,7 +62,9 @@ import math
 import jax
 import jax.numpy as jnp
 
-from ._logpmf import stirlerr
+from ._bounds import tail_exponent, tight_upper_bound, window_bounds
+from ._logpmf import bd0_wide, stirlerr
+from ._precision import single_precision
 
 __all__ = ["steady_pd", "log_poisson_pmf_at_integer"]
 
@@ -98,44 +107,16 @@ def _stirlerr_at_integer(k):
     return jnp.where(big, series, table[idx])
 
 
-# Deviance series ``bd0(x, m) = (x - m) v + 2 x sum_{i>=1} v^(2i+1)/(2i+1)``, v = (x-m)/(x+m),
-# used for |v| < _BD0_SERIES_V with _BD0_TERMS terms (truncation 0.35^40/41 < 1e-19 relative).
-# ``_logpmf.bd0`` switches to ``x log(x/m) + m - x`` already at |v| = 0.1, where that form
-# loses up to eps (x |log(x/m)| + |x - m|) to cancellation: 1.7e-13 absolute in log P(K = k)
-# at the Chernoff bounds of K for mu ~ 1e3 (k/mu ~ 1.3). With the series up to |v| = 0.35 the
-# closed form is used only where x and m are small (m < ~160 at the Chernoff bounds) and its
-# cancellation error stays below ~1e-14.
-_BD0_SERIES_V = 0.35
-_BD0_TERMS = 20
-
-
-def _bd0_wide(x, m):
-    """``x log(x/m) + m - x`` for x >= 0, m > 0, by the series for |v| < 0.35 (see above)."""
-    d = x - m
-    near = jnp.abs(d) < _BD0_SERIES_V * (x + m)
-    v = jnp.where(near, d / (x + m), 0.0)
-    v2 = v * v
-    poly = jnp.full_like(v2, 1.0 / (2 * _BD0_TERMS + 1))
-    for i in range(_BD0_TERMS - 1, 0, -1):
-        poly = poly * v2 + 1.0 / (2 * i + 1)
-    series = d * v + 2.0 * x * (v * v2) * poly
-    pos = x > 0
-    xf = jnp.where(~near & pos, x, 1.0)
-    mf = jnp.where(~near & pos, m, 1.0)
-    far = jnp.where(pos, xf * jnp.log(xf / mf) + mf - xf, m)
-    return jnp.where(near, series, far)
-
-
 def log_poisson_pmf_at_integer(k, mu):
     """log P(K = k), K ~ Poisson(mu), for integer-valued k >= 0 (float array) and mu > 0.
 
     Loader's saddle-point form ``-stirlerr(k) - bd0(k, mu) - log(2 pi k)/2`` (see ``_logpmf``)
-    with Stirling's remainder from a table and the wide-range deviance series above: absolute
-    error of a few ulp of |log P|, i.e. relative error of P ~1e-14 even at tail points.
+    with Stirling's remainder from a table and the wide-range deviance series ``bd0_wide``:
+    absolute error of a few ulp of |log P|, i.e. relative error of P ~1e-14 even at tail points.
     """
     pos = k > 0
     kp = jnp.where(pos, k, 1.0)
-    val = -_stirlerr_at_integer(kp) - _bd0_wide(kp, mu) - 0.5 * jnp.log(kp) - _HALF_LOG_2PI
+    val = -_stirlerr_at_integer(kp) - bd0_wide(kp, mu) - 0.5 * jnp.log(kp) - _HALF_LOG_2PI
     return jnp.where(pos, val, -mu)
 
 
@@ -143,7 +124,7 @@ def _log_poisson_weight(x, t):
     """log pois(x; t) for real x >= 0 (the weights w_j at x = n + j), with the wide deviance."""
     pos = x > 0
     xp = jnp.where(pos, x, 1.0)
-    val = -stirlerr(xp) - _bd0_wide(xp, t) - 0.5 * jnp.log(xp) - _HALF_LOG_2PI
+    val = -stirlerr(xp) - bd0_wide(xp, t) - 0.5 * jnp.log(xp) - _HALF_LOG_2PI
     return jnp.where(pos, val, -t)
 
 
@@ -171,8 +152,6 @@ def steady_pd(snr, t, n, pfa):
     is shared by all elements. Evaluated chunk by chunk (``lax.map``), so the loop state of a
     chunk stays in the CPU cache and each chunk loops only over the steps its own SNRs need.
     """
-    from .core import _TAIL_L, window_bounds  # local import: core dispatches to this module
-
     if any(jnp.ndim(a) for a in (t, n, pfa)):
         raise ValueError("steady_pd: t, n and pfa must be scalars")
     j_lo, j_hi = window_bounds(t, n)
@@ -183,7 +162,7 @@ def steady_pd(snr, t, n, pfa):
     # sum of w_j (an exact 1 - Q(n, T) up to the truncation): both forms then carry the same
     # threshold error and Pd stays continuous where an element switches direction.
     w_sum = _window_sum(t, n, j_lo, j_hi)
-    kernel = lambda x: _steady_kernel(x, t, n, pfa, j_lo, j_hi, w_sum, _TAIL_L)
+    kernel = lambda x: _steady_kernel(x, t, n, pfa, j_lo, j_hi, w_sum, tail_exponent(t))
     shape, size = snr.shape, snr.size
     if size == 0:
         return jnp.zeros(shape, dtype=jnp.result_type(snr, t))
@@ -206,19 +185,20 @@ def _window_sum(t, n, j_lo, j_hi):
     return jax.lax.while_loop(lambda s: s[0] <= j_hi, body, (j_lo, w0, jnp.zeros_like(w0)))[2]
 
 
-# Veltkamp's splitting constant 2^27 + 1: splits a float64 into two 26-bit halves whose
-# pairwise products are exact.
+# Veltkamp's splitting constants 2^27 + 1 (float64: two 26-bit halves) and 2^12 + 1 (float32:
+# two 12-bit halves); the pairwise products of the halves are exact.
 _SPLITTER = 134217729.0
+_SPLITTER_SINGLE = 4097.0
 
 
 def _split(a):
-    c = _SPLITTER * a
+    c = (_SPLITTER_SINGLE if single_precision(a) else _SPLITTER) * a
     hi = c - (c - a)
     return hi, a - hi
 
 
 def _reciprocal_double_double(x):
-    """1/x as an unevaluated sum hi + lo with relative error ~1e-32 (Dekker's exact product).
+    """1/x as an unevaluated sum hi + lo with relative error ~eps^2 (Dekker's exact product).
 
     The DOWN recursion multiplies by (j + 1)/x at every step. With a rounded 1/x its relative
     error (up to 1.1e-16) would repeat at every step and bias the probabilities by up to
@@ -247,9 +227,11 @@ def _unrolled(step):
 def _steady_kernel(snr, t, n, pfa, j_lo, j_hi, w_sum, tail_l):
     """Both directional sums over one chunk of SNRs (see the module docstring)."""
     mu = n * snr
-    # Poisson quantile bounds of K, each tail below exp(-tail_l) (as core._poisson_quantile_bounds)
+    # Poisson quantile bounds of K, each tail below exp(-tail_l) (as _bounds.poisson_quantile_bounds)
     k_lo = jnp.maximum(jnp.floor(mu - jnp.sqrt(2.0 * tail_l * mu)), 0.0)
     k_hi = jnp.ceil(mu + tail_l / 3.0 + jnp.sqrt(tail_l**2 / 9.0 + 2.0 * tail_l * mu))
+    if single_precision(mu):
+        k_hi = tight_upper_bound(mu, None, k_hi, tail_l)  # keeps P(K = k_hi) above float32's range
     up = mu >= t - n
     pmf_start = jnp.exp(log_poisson_pmf_at_integer(jnp.where(up, k_lo, k_hi), mu))
     zeros = jnp.zeros_like(mu)

@@ -19,8 +19,6 @@ against mpmath (tests/test_detection_threshold.py).
 
 from __future__ import annotations
 
-from functools import partial
-
 import jax
 import jax.numpy as jnp
 from jax.scipy.special import gammaincc, ndtri
@@ -39,8 +37,11 @@ __all__ = [
 _MAX_NEWTON = 40
 # Newton stops once a step is below this relative size; gammaincc's own relative error
 # (<= ~2e-11 at n = 1e4) sets the attainable accuracy, and the next quadratic step would be
-# far below it.
+# far below it. In float32 the floor is a few ulp (``_STEP_TOL_EPS`` x eps = 9.5e-7): a
+# relative step of 1e-12 is below its resolution, and the iteration would always run to
+# ``_MAX_NEWTON``.
 _STEP_TOL = 1e-12
+_STEP_TOL_EPS = 8.0
 
 
 def _log_density(n, t):
@@ -85,9 +86,11 @@ def _solve_threshold(pfa, n):
         t_new = jnp.where(ok, t_newton, fallback)
         return t_new, lo, hi, jnp.abs(t_new - t), it + 1
 
+    tol = max(_STEP_TOL, _STEP_TOL_EPS * float(jnp.finfo(t0.dtype).eps))  # float64: 1e-12
+
     def cond(state):
         t, _, _, delta, it = state
-        return (it < _MAX_NEWTON) & jnp.any(delta > _STEP_TOL * jnp.maximum(t, 1.0))
+        return (it < _MAX_NEWTON) & jnp.any(delta > tol * jnp.maximum(t, 1.0))
 
     init = (t0, jnp.zeros_like(t0), jnp.full_like(t0, jnp.inf), jnp.full_like(t0, jnp.inf), 0)
     t, _, _, _, it = jax.lax.while_loop(cond, body, init)

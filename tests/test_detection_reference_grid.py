@@ -6,6 +6,7 @@ Evaluated in one vectorised call per (Swerling case, N) group, so the full grid 
 """
 
 import json
+import math
 from collections import defaultdict
 from pathlib import Path
 
@@ -58,3 +59,24 @@ def test_required_snr_full_grid(key, rows):
     got = np.asarray(det.required_snr_db(pdv, pfa, float(n), sw))
     want = np.array([float(r["snr_db_str"]) for r in rows])
     assert np.max(np.abs(got - want)) <= 1e-6
+
+
+def test_approximation_errors_over_the_reference_grid():
+    # the measured errors of the closed-form approximations inside their published domains,
+    # as documented in diffsense.detection.required_snr and the README (to 0.01 dB)
+    alb, shn = [], {sw: [] for sw in range(5)}
+    for r in DATA["required_snr"]:
+        sw, n, pfa, pd, exact = r["swerling"], r["n"], r["pfa"], r["pd"], r["snr_db"]
+        if sw == 0 and 1e-7 <= pfa <= 1e-3 and 0.1 <= pd <= 0.9 and n <= 8096:
+            alb.append((pd, float(det.required_snr_db(pd, pfa, n, 0, method="albersheim")) - exact))
+        if 1e-9 <= pfa <= 1e-3 and 0.1 <= pd <= 0.99 and n <= 100:
+            shn[sw].append(float(det.required_snr_db(pd, pfa, n, sw, method="shnidman")) - exact)
+    assert max(abs(e) for _, e in alb) == pytest.approx(4.08, abs=0.01)
+    assert max(abs(e) for pd, e in alb if pd >= 0.5) == pytest.approx(0.29, abs=0.01)
+    worst = {sw: max(abs(e) for e in errs) for sw, errs in shn.items()}
+    assert [round(worst[sw], 2) for sw in range(5)] == [0.30, 1.04, 1.04, 0.67, 0.40]
+    # the worst Albersheim point by hand: A = ln 620, B = ln(1/9), A + 0.12AB + 1.7B = 0.99913,
+    # SNR = (6.2 + 4.54/sqrt(1.44)) log10(0.99913) = -0.00377 dB
+    a, b = math.log(620.0), math.log(1.0 / 9.0)
+    hand = (6.2 + 4.54 / math.sqrt(1.44)) * math.log10(a + 0.12 * a * b + 1.7 * b)
+    assert float(det.required_snr_db(0.1, 1e-3, 1, 0, method="albersheim")) == pytest.approx(hand, rel=1e-12)

@@ -30,6 +30,7 @@ def sidescan():
     return DesignModel(load_spec(DESIGNS / "sidescan_sonar.toml"))
 
 
+@pytest.mark.slow
 def test_sidescan_1000_starts_reach_the_same_optimum(sidescan):
     opt = optimize_design(sidescan, n_starts=1001, seed=3)
     assert opt.feasible and opt.converged

@@ -115,8 +115,8 @@ def active_gradient_parallel(model, opt, requirement_output, rtol):
 
 
 @pytest.mark.parametrize("name,points", [
-    ("lidar_rangefinder", 9),
-    ("radiometer_submunition", 9),
+    pytest.param("lidar_rangefinder", 9, marks=pytest.mark.slow),
+    pytest.param("radiometer_submunition", 9, marks=pytest.mark.slow),
     pytest.param("fire_control", 4, marks=pytest.mark.slow),
 ])
 def test_shipped_optimum_meets_every_requirement_within_bounds_and_beats_grid(name, points):
@@ -252,6 +252,7 @@ def test_radiometer_submunition_optimum_is_a_lagrange_point_of_the_rain_requirem
 # --- IRST -------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_irst_optimum_is_feasible_beats_grid_and_initial_and_is_the_closed_form_aperture():
     model, opt = optimum("irst")
     check_meets_requirements_within_bounds(model, opt)

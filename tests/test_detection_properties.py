@@ -14,15 +14,26 @@ LOG_PFA = st.floats(-300.0, np.log10(0.5))
 N = st.floats(1.0, 1e4)
 SETTINGS = settings(max_examples=25, deadline=None)
 
+# one compiled program per Swerling case (static), reused by every hypothesis example: eager
+# calls would compile the series and root-finding loops again for each example
+_PD = {sw: jax.jit(lambda s, f, n, sw=sw: det.pd(s, f, n, sw)) for sw in range(5)}
+_PD_GRAD = {sw: jax.jit(jax.grad(lambda s, f, n, sw=sw: det.pd(s, f, n, sw), argnums=(0, 1, 2))) for sw in range(5)}
+_RSNR = {sw: jax.jit(lambda p, f, n, sw=sw: det.required_snr_db(p, f, n, sw)) for sw in range(5)}
+_RSNR_GRAD = {sw: jax.jit(jax.grad(lambda p, f, n, sw=sw: det.required_snr_db(p, f, n, sw), argnums=(0, 1, 2)))
+              for sw in range(5)}
+_THRESHOLD = jax.jit(det.threshold)
+_THRESHOLD_GRAD = jax.jit(jax.grad(det.threshold, argnums=(0, 1)))
+_PFA_FROM_THRESHOLD = jax.jit(det.pfa_from_threshold)
+
 
 @SETTINGS
 @given(sw=SWERLING, snr=SNR_DB, lp=LOG_PFA, n=N)
 def test_pd_is_a_probability_at_least_pfa_and_gradients_finite(sw, snr, lp, n):
     pfa = 10.0**lp
-    p = float(det.pd(snr, pfa, n, sw))
+    p = float(_PD[sw](snr, pfa, n))
     assert 0.0 <= p <= 1.0
     assert p >= pfa * (1 - 1e-10)
-    g = jax.grad(det.pd, argnums=(0, 1, 2))(snr, pfa, n, sw)
+    g = _PD_GRAD[sw](snr, pfa, n)
     assert all(np.isfinite(float(x)) for x in g)
 
 
@@ -30,23 +41,23 @@ def test_pd_is_a_probability_at_least_pfa_and_gradients_finite(sw, snr, lp, n):
 @given(sw=SWERLING, snr=st.floats(-50.0, 79.0), lp=LOG_PFA, n=N, d=st.floats(0.01, 1.0))
 def test_pd_monotone_in_snr_pfa_and_n(sw, snr, lp, n, d):
     pfa = 10.0**lp
-    p = float(det.pd(snr, pfa, n, sw))
+    p = float(_PD[sw](snr, pfa, n))
     # Monotone up to the round-off of the summed series: near Pd = 1 the sum carries ~1e-14 of
     # absolute rounding (measured worst |dPd| against mpmath over the grid: 3.9e-13).
     tol = 1e-13
-    assert float(det.pd(snr + d, pfa, n, sw)) >= p - tol
-    assert float(det.pd(snr, min(pfa * (1 + d), 0.5), n, sw)) >= p - tol
-    assert float(det.pd(snr, pfa, min(n + d, 1e4), sw)) >= p - tol
+    assert float(_PD[sw](snr + d, pfa, n)) >= p - tol
+    assert float(_PD[sw](snr, min(pfa * (1 + d), 0.5), n)) >= p - tol
+    assert float(_PD[sw](snr, pfa, min(n + d, 1e4))) >= p - tol
 
 
 @SETTINGS
 @given(sw=SWERLING, pd_t=st.floats(0.05, 0.999), lp=st.floats(-15.0, -1.5), n=st.floats(1.0, 300.0))
 def test_required_snr_round_trip(sw, pd_t, lp, n):
     pfa = 10.0**lp
-    x = det.required_snr_db(pd_t, pfa, n, sw)
+    x = _RSNR[sw](pd_t, pfa, n)
     assert np.isfinite(float(x))
-    assert float(det.pd(x, pfa, n, sw)) == __import__("pytest").approx(pd_t, abs=1e-11)
-    g = jax.grad(det.required_snr_db, argnums=(0, 1, 2))(pd_t, pfa, n, sw)
+    assert float(_PD[sw](x, pfa, n)) == __import__("pytest").approx(pd_t, abs=1e-11)
+    g = _RSNR_GRAD[sw](pd_t, pfa, n)
     assert all(np.isfinite(float(v)) for v in g)
 
 
@@ -54,10 +65,10 @@ def test_required_snr_round_trip(sw, pd_t, lp, n):
 @given(lp=st.floats(-300.0, np.log10(0.5)), n=N)
 def test_threshold_round_trip_and_gradient_finite(lp, n):
     pfa = 10.0**lp
-    t = det.threshold(pfa, n)
-    back = float(det.pfa_from_threshold(t, n))
+    t = _THRESHOLD(pfa, n)
+    back = float(_PFA_FROM_THRESHOLD(t, n))
     assert back == __import__("pytest").approx(pfa, rel=5e-11)
-    g = jax.grad(det.threshold, argnums=(0, 1))(pfa, n)
+    g = _THRESHOLD_GRAD(pfa, n)
     assert all(np.isfinite(float(v)) for v in g)
 
 

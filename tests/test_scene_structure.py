@@ -20,6 +20,7 @@ BASE = dict(
     range_m=15e3, peak_power_w=5e4, pulse_width_s=0.5e-6, freq_hz=9.4e9, bandwidth_hz=1.2e6, noise_figure_db=3.0,
     prf_hz=2e3, n_pulses=12.0, antenna_diameter_m=1.5, jammer_power_w=5.0, jammer_gain_db=3.0,
     jammer_bandwidth_hz=50e6, target_height_m=20.0, antenna_height_m=15.0,
+    track_alpha=0.5, servo_bandwidth_hz=3.0, positioner_resonance_hz=30.0,
 )
 CLEAR = Scene("radar", [], {"swerling": 1})
 FULL = Scene("radar", list(PARTS), {"swerling": 1})

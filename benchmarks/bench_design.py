@@ -45,14 +45,8 @@ from diffsense.design_optimizer import _tight_limits, build_problem  # noqa: E40
 from diffsense.optimize import SolverOptions, solve  # noqa: E402
 from diffsense.spec import load_spec  # noqa: E402
 
-
-def _median_time(fn, repeats):
-    ts = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t)
-    return float(np.median(ts))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_optimizer import _median_time  # noqa: E402
 
 
 def _setup(spec_path):

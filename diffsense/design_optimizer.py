@@ -188,7 +188,7 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
         for j, c in enumerate(near):
             x_new = np.where(pins_all[c], final_x[c], np.asarray(r3.x)[j])
             rep = model.requirement_report(x_new, model.combo_table[c])
-            if sum(max(-r["slack"], 0.0) / sc for r, sc in zip(rep, model.scales)) < miss[j].sum():
+            if sum(max(-r["slack"], 0.0) / sc for r, sc in zip(rep, model.scales)) < miss[c].sum():
                 final_x[c], reports[c] = x_new, rep
                 final_conv[c] = bool(np.asarray(r3.converged)[j])
                 final_lam[c] = np.asarray(r3.lam)[j]

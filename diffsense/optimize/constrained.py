@@ -110,6 +110,9 @@ class SolverOptions:
     ``active_tol``: scaled constraint value above which an inequality counts as active.
     ``f_scale``: "auto" or a positive number multiplying f; ``constraint_scaling``: scale g, h.
     ``restore``: run the least-infeasibility solve when the answer is infeasible.
+    ``method``: "al" (this module's augmented Lagrangian) or "sqp" (:mod:`.sqp`, for small
+    dense problems; uses ``max_sqp``, ``qp_iterations``, ``elastic_weight`` and
+    ``max_line_search`` and none of the AL-specific settings).
     """
 
     tol: float = 1e-8
@@ -131,9 +134,19 @@ class SolverOptions:
     f_scale: object = "auto"
     constraint_scaling: bool = True
     restore: bool = True
+    method: str = "al"
+    max_sqp: int = 100
+    qp_iterations: int = 30
+    elastic_weight: float = 1e3
+    max_line_search: int = 20
 
     def __post_init__(self):
         check_choice("inner", self.inner, ("lbfgsb", "bfgs"), where="SolverOptions")
+        check_choice("method", self.method, ("al", "sqp"), where="SolverOptions")
+        check_range("max_sqp", self.max_sqp, 1, None, where="SolverOptions")
+        check_range("qp_iterations", self.qp_iterations, 1, None, where="SolverOptions")
+        check_range("elastic_weight", self.elastic_weight, 0.0, None, lo_open=True, where="SolverOptions")
+        check_range("max_line_search", self.max_line_search, 1, None, where="SolverOptions")
         check_range("tol", self.tol, 0.0, 1.0, lo_open=True, where="SolverOptions")
         check_range("feas_tol", self.feas_tol, 0.0, 1.0, lo_open=True, where="SolverOptions")
         check_range("max_outer", self.max_outer, 1, None, where="SolverOptions")
@@ -272,6 +285,18 @@ def _auto_scales(problem: Problem, z0, theta, m: int, p: int, options: SolverOpt
     else:
         sc = jnp.ones((m + p,), dtype)
     return jax.tree_util.tree_map(lax.stop_gradient, Scales(sf, sc[:m], sc[m:]))
+
+
+def scaled_start(problem: Problem, x0, theta):
+    """(dtype, zlo, zhi, z0, m, p): the checked start projected into the box, in scaled
+    coordinates, with the scaled bounds and the numbers of inequalities and equalities."""
+    check_start(problem, x0)
+    dtype = jnp.result_type(float)
+    x0 = problem.clip(jnp.asarray(x0, dtype=dtype))
+    zlo, zhi = problem.scaled_bounds()
+    z0 = jnp.clip(problem.to_scaled(x0), zlo, zhi)
+    m, p = problem.constraint_sizes(theta)
+    return dtype, zlo, zhi, z0, m, p
 
 
 def make_model(problem: Problem, theta, scales: Scales) -> ScaledModel:
@@ -503,19 +528,19 @@ class _State(NamedTuple):
 def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptions()) -> Result:
     """Minimise ``problem`` from ``x0`` (units of the variables) at parameters ``theta``.
 
-    Augmented-Lagrangian outer loop over a bounded inner solve with an active-set Newton
+    With ``options.method="sqp"`` the SQP solver of :mod:`.sqp` runs instead. Otherwise:
+    augmented-Lagrangian outer loop over a bounded inner solve with an active-set Newton
     polish once the KKT residual is below ``polish_start``, and a least-infeasibility
     restoration when the loop ends infeasible (module docstring). Pure and fixed-shape: jit
     it, vmap it over ``x0`` and ``theta``. Returns a :class:`Result`; ``x`` lies inside
     [lower, upper] whatever happens. Local method: the answer is a KKT point reached from
     ``x0`` (see :mod:`diffsense.optimize.multistart` for several starts).
     """
-    check_start(problem, x0)
-    dtype = jnp.result_type(float)
-    x0 = problem.clip(jnp.asarray(x0, dtype=dtype))
-    zlo, zhi = problem.scaled_bounds()
-    z0 = jnp.clip(problem.to_scaled(x0), zlo, zhi)
-    m, p = problem.constraint_sizes(theta)
+    if options.method == "sqp":
+        from .sqp import solve_sqp
+
+        return solve_sqp(problem, x0, theta, options)
+    dtype, zlo, zhi, z0, m, p = scaled_start(problem, x0, theta)
     scales = _auto_scales(problem, z0, theta, m, p, options)
     model = make_model(problem, theta, scales)
     unconstrained = (m + p) == 0

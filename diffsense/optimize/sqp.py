@@ -1,0 +1,333 @@
+"""Sequential quadratic programming (SQP) for small dense design problems.
+
+    minimise f(x, θ)  s.t.  g(x, θ) ≤ 0,  h(x, θ) = 0,  lower ≤ x ≤ upper
+
+The method of Wilson, Han and Powell with a damped BFGS Hessian and an ℓ1 merit line search
+(Han, J. Optim. Theory Appl. 22 (1977) 297; Powell, *Numerical Analysis Dundee 1977*, LNM 630,
+144–157; Nocedal & Wright, *Numerical Optimization*, 2nd ed., Algorithm 18.3 and §18.3), the
+method of SciPy's SLSQP (Kraft, DFVLR-FB 88-28, 1988), with three choices of its own:
+
+* **One linearisation per iteration.** The objective and constraints are linearised at the
+  iterate by forward-mode differentiation of the stacked vector (f, g, h) in the scaled
+  variables z (``Problem.from_scaled``): n tangents for n variables, the cheap direction for
+  design problems (a handful of variables, a chain of hundreds of operations). The line search
+  evaluates values only. Function scales are taken from the first linearisation exactly as
+  :func:`diffsense.optimize.solve` takes them (so tolerances mean the same in both solvers).
+* **Elastic subproblem, solved by interior point.** The QP
+
+      min_d ½ dᵀBd + ∇Fᵀd + M (Σ sᵢ + Σ tⱼ)
+      s.t.  G + J_G d ≤ s,  |H + J_H d| ≤ t,  s, t ≥ 0,  zlo − z ≤ d ≤ zhi − z
+
+  is always feasible (the ℓ1 elastic mode of SNOPT: Gill, Murray & Saunders, SIAM Rev. 47
+  (2005) 99–131), so inconsistent linearisations far from the solution do not stop the method;
+  M = ``elastic_weight`` (scaled units). It is solved with :func:`diffsense.optimize.qp.solve_qp`
+  (Mehrotra predictor–corrector, fixed iteration count: every lane of a vmapped batch does the
+  same work). Variables without a finite bound get a step bound of ±10 scaled units.
+* **Damped BFGS.** B starts as I, is rescaled by yᵀy/sᵀy before its first update (Shanno &
+  Phua) and is updated with Powell's damping (yᵀs ≥ 0.2 sᵀBs), so it stays positive definite.
+
+The ℓ1 merit φ = F + π(Σ max(Gᵢ, 0) + Σ |Hⱼ|) with π ≥ 1.5 max|multiplier| (never decreased) is
+decreased by an Armijo search (sufficient decrease 1e-4·α·φ′, plus 1e-14·(1 + |φ|) of rounding):
+the full step first; then, against the Maratos effect (a full step near the solution that the
+merit rejects because the constraints curve), the full step plus the second-order correction
+−J_Aᵀ(J_A J_Aᵀ)⁻¹ c_A(z + d) on the active constraints (Nocedal & Wright §18.3, eq. 18.51 with
+the variables at bounds held); then the step halved per trial, ``max_line_search`` times at
+most. A step that finds no decrease resets B to I. Convergence is the KKT test of
+:func:`diffsense.optimize.solve` (projected-gradient stationarity and complementarity ≤ ``tol``,
+violation ≤ ``feas_tol``, in scaled units, at the new iterate with the QP's multipliers) and a
+last step ≤ √tol·(1 + ‖z‖∞): f is scaled at the start, and where its curvature at the optimum
+is much smaller than there, a small scaled gradient alone leaves the iterate inaccurate.
+An iterate within 1e-9 (relative) of a bound is put on it, so active bounds are met exactly.
+
+Scope. Fast and compact on well-posed problems; it has no restoration phase: an infeasible
+problem ends with ``converged`` False and ``conflict`` marking the constraints left violated and
+the bounds that block progress (read from the ℓ1 infeasibility gradient), but the answer is the
+last iterate, not a least-infeasible point. :func:`diffsense.optimize.solve` (``method="al"``)
+is the robust method; the design optimiser runs SQP first and re-solves with it whatever SQP
+did not converge.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+from jax import lax
+
+from .constrained import (
+    Conflict,
+    KKTResidual,
+    Result,
+    Scales,
+    SolverOptions,
+    _converged,
+    _kkt_from,
+    _safe_inf_norm,
+    bound_activity,
+    scaled_start,
+)
+from .problem import Problem
+from .qp import solve_qp
+
+_FREE_STEP = 10.0  # step bound (scaled units) of a variable without a finite bound
+
+
+class _Lin(NamedTuple):
+    """Scaled linearisation at z: values F, G, H and Jacobians."""
+
+    F: jax.Array
+    dF: jax.Array
+    G: jax.Array
+    JG: jax.Array
+    H: jax.Array
+    JH: jax.Array
+
+
+class _State(NamedTuple):
+    k: jax.Array
+    z: jax.Array
+    lam: jax.Array
+    nu: jax.Array
+    B: jax.Array
+    pi: jax.Array
+    scales: Scales
+    prev: _Lin  # linearisation at the previous iterate (for the BFGS update)
+    z_prev: jax.Array
+    lin: _Lin  # linearisation at z (valid once done)
+    raw: jax.Array  # unscaled (f, g, h) at z (valid once done)
+    kkt: KKTResidual
+    done: jax.Array
+    evaluations: jax.Array
+    last_step: jax.Array
+
+
+def _scales_from(jac, val, m: int, options: SolverOptions) -> Scales:
+    """Function scales from the unscaled Jacobian and values at the start (as ``solve``)."""
+    dtype = val.dtype
+    if options.f_scale == "auto":
+        sf = 1.0 / jnp.clip(_safe_inf_norm(jnp.where(jnp.isfinite(jac[0]), jac[0], 0.0)), 1e-8, 1e8)
+    else:
+        sf = jnp.asarray(options.f_scale, dtype)
+    if options.constraint_scaling and val.shape[0] > 1:
+        den = jnp.maximum(jnp.max(jnp.abs(jac[1:]), axis=1), 0.01 * jnp.abs(val[1:]))
+        den = jnp.where(jnp.isfinite(den), den, 1.0)
+        sc = 1.0 / jnp.clip(den, 1e-8, 1e8)
+    else:
+        sc = jnp.ones((val.shape[0] - 1,), dtype)
+    return jax.tree_util.tree_map(lax.stop_gradient, Scales(sf, sc[:m], sc[m:]))
+
+
+def _scaled_lin(val, jac, s: Scales, m: int) -> _Lin:
+    return _Lin(s.f * val[0], s.f * jac[0], s.g * val[1:1 + m], s.g[:, None] * jac[1:1 + m],
+                s.h * val[1 + m:], s.h[:, None] * jac[1 + m:])
+
+
+def _damped_bfgs(B, s, y, first):
+    """Powell-damped BFGS update of B with step s and gradient change y."""
+    Bs = B @ s
+    sBs = jnp.dot(s, Bs)
+    sy = jnp.dot(s, y)
+    # Shanno–Phua initial scaling, before the first update
+    scale = jnp.where(first & (sy > 0), jnp.dot(y, y) / jnp.where(sy > 0, sy, 1.0), 1.0)
+    B = B * scale
+    Bs, sBs = Bs * scale, sBs * scale
+    theta = jnp.where(sy >= 0.2 * sBs, 1.0, 0.8 * sBs / jnp.where(sBs - sy != 0, sBs - sy, 1.0))
+    r = theta * y + (1.0 - theta) * Bs
+    sr = jnp.dot(s, r)
+    ok = (sBs > 1e-300) & (sr > 1e-300) & jnp.all(jnp.isfinite(r))
+    B_new = B - jnp.outer(Bs, Bs) / jnp.where(ok, sBs, 1.0) + jnp.outer(r, r) / jnp.where(ok, sr, 1.0)
+    B_new = 0.5 * (B_new + B_new.T)
+    return jnp.where(ok & jnp.all(jnp.isfinite(B_new)), B_new, B)
+
+
+def _qp_step(lin: _Lin, B, dlo, dhi, weight, iterations):
+    """Elastic QP (module docstring): step d, multipliers λ (inequalities) and ν (equalities),
+    and the elastic slack total Σs + Σt."""
+    n, m, p = lin.dF.shape[0], lin.G.shape[0], lin.H.shape[0]
+    nv = n + m + p
+    dtype = lin.dF.dtype
+    Q = jnp.zeros((nv, nv), dtype).at[:n, :n].set(B)
+    c = jnp.concatenate([lin.dF, jnp.full((m + p,), weight, dtype)])
+    Im, Ip, In = jnp.eye(m, dtype=dtype), jnp.eye(p, dtype=dtype), jnp.eye(n, dtype=dtype)
+    zmp = jnp.zeros((m, p), dtype)
+    zpm = jnp.zeros((p, m), dtype)
+    rows = [
+        jnp.concatenate([lin.JG, -Im, zmp], axis=1),                             # G + J d ≤ s
+        jnp.concatenate([lin.JH, zpm, -Ip], axis=1),                             # H + J d ≤ t
+        jnp.concatenate([-lin.JH, zpm, -Ip], axis=1),                            # −H − J d ≤ t
+        jnp.concatenate([jnp.zeros((m, n), dtype), -Im, zmp], axis=1),           # s ≥ 0
+        jnp.concatenate([jnp.zeros((p, n), dtype), zpm, -Ip], axis=1),           # t ≥ 0
+        jnp.concatenate([In, jnp.zeros((n, m + p), dtype)], axis=1),             # d ≤ dhi
+        jnp.concatenate([-In, jnp.zeros((n, m + p), dtype)], axis=1),            # d ≥ dlo
+    ]
+    A = jnp.concatenate(rows, axis=0)
+    b = jnp.concatenate([-lin.G, -lin.H, lin.H, jnp.zeros((m + p,), dtype), dhi, -dlo])
+    sol = solve_qp(Q, c, A, b, iterations)
+    d = sol.y[:n]
+    # rows with uᵢ < wᵢ are inactive (uᵢwᵢ = μ → 0): their multiplier is μ-sized noise, set to 0
+    u = jnp.where(sol.u >= sol.w, sol.u, 0.0)
+    lam = u[:m]
+    nu = u[m:m + p] - u[m + p:m + 2 * p]
+    elastic = jnp.sum(jnp.maximum(sol.y[n:], 0.0))
+    return d, lam, nu, elastic
+
+
+def solve_sqp(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptions()) -> Result:
+    """Minimise ``problem`` from ``x0`` by SQP (module docstring); same :class:`Result` as
+    :func:`diffsense.optimize.solve`. Pure and fixed-shape: jit it, vmap it over x0 and θ.
+    ``options.max_sqp`` caps the iterations, ``qp_iterations`` and ``elastic_weight`` set the
+    subproblem, ``max_line_search`` the backtracking trials; ``tol``, ``feas_tol``, ``f_scale``
+    and ``constraint_scaling`` mean what they mean for the augmented Lagrangian."""
+    dtype, zlo, zhi, z0, m, p = scaled_start(problem, x0, theta)
+    n = z0.shape[0]
+    tol_lo = 1e-9 * (1.0 + jnp.abs(jnp.where(jnp.isfinite(zlo), zlo, 0.0)))
+    tol_hi = 1e-9 * (1.0 + jnp.abs(jnp.where(jnp.isfinite(zhi), zhi, 0.0)))
+
+    def stack(z):
+        x = problem.from_scaled(z)
+        return jnp.concatenate([problem.f(x, theta)[None], problem.g(x, theta), problem.h(x, theta)])
+
+    def linearize(z):
+        def with_value(zz):
+            v = stack(zz)
+            return v, v
+        return jax.jacfwd(with_value, has_aux=True)(z)
+
+    def merit(raw, scales, pi):
+        F = scales.f * raw[0]
+        G = scales.g * raw[1:1 + m]
+        H = scales.h * raw[1 + m:]
+        infeas = jnp.sum(jnp.maximum(G, 0.0)) + jnp.sum(jnp.abs(H))
+        return F + pi * infeas, infeas
+
+    def grad_lag(lin: _Lin, lam, nu):
+        return lin.dF + lin.JG.T @ lam + lin.JH.T @ nu
+
+    empty = _Lin(jnp.zeros((), dtype), jnp.zeros((n,), dtype), jnp.zeros((m,), dtype), jnp.zeros((m, n), dtype),
+                 jnp.zeros((p,), dtype), jnp.zeros((p, n), dtype))
+    inf = jnp.asarray(jnp.inf, dtype)
+    state = _State(
+        k=jnp.asarray(0), z=z0, lam=jnp.zeros((m,), dtype), nu=jnp.zeros((p,), dtype),
+        B=jnp.eye(n, dtype=dtype), pi=jnp.asarray(0.0, dtype),
+        scales=Scales(jnp.ones((), dtype), jnp.ones((m,), dtype), jnp.ones((p,), dtype)),
+        prev=empty, z_prev=z0, lin=empty, raw=jnp.zeros((1 + m + p,), dtype),
+        kkt=KKTResidual(inf, inf, inf), done=jnp.asarray(False), evaluations=jnp.asarray(0),
+        last_step=inf,
+    )
+
+    def cond(s: _State):
+        return ~s.done
+
+    def body(s: _State):
+        jac, raw = linearize(s.z)
+        finite = jnp.all(jnp.isfinite(jac)) & jnp.all(jnp.isfinite(raw))
+        scales = jax.tree_util.tree_map(lambda a, b: jnp.where(s.k == 0, a, b),
+                                        _scales_from(jac, raw, m, options), s.scales)
+        lin = _scaled_lin(raw, jac, scales, m)
+
+        # BFGS update with the multipliers of the last QP
+        step = s.z - s.z_prev
+        y = grad_lag(lin, s.lam, s.nu) - grad_lag(s.prev, s.lam, s.nu)
+        B = jnp.where((s.k > 0) & finite, _damped_bfgs(s.B, step, y, s.k == 1), s.B)
+
+        gl = grad_lag(lin, s.lam, s.nu)
+        kkt = _kkt_from(s.z, gl, lin.G, lin.H, s.lam, zlo, zhi)
+        # KKT within tolerance and the last step short (√tol): the scaled gradient can be small
+        # long before the iterate is accurate when f's scale was set far from the optimum
+        settled = s.last_step <= jnp.sqrt(options.tol) * (1.0 + _safe_inf_norm(s.z))
+        stop = (_converged(kkt, options) & settled) | (s.k >= options.max_sqp) | ~finite
+
+        # subproblem
+        dlo = jnp.where(jnp.isfinite(zlo), zlo - s.z, -_FREE_STEP)
+        dhi = jnp.where(jnp.isfinite(zhi), zhi - s.z, _FREE_STEP)
+        d, lam_q, nu_q, elastic = _qp_step(lin, B, dlo, dhi, options.elastic_weight, options.qp_iterations)
+        d = jnp.where(jnp.isfinite(d), d, 0.0)
+        lam_q = jnp.where(jnp.isfinite(lam_q), lam_q, s.lam)
+        nu_q = jnp.where(jnp.isfinite(nu_q), nu_q, s.nu)
+        pi = jnp.maximum(s.pi, 1.5 * jnp.maximum(_safe_inf_norm(lam_q), _safe_inf_norm(nu_q)) + 1e-8)
+
+        # ℓ1-merit Armijo line search: trial 0 the full step, trial 1 the full step with a
+        # second-order correction, then the plain step halved per trial
+        phi0, infeas0 = merit(raw, scales, pi)
+        slope = jnp.dot(lin.dF, d) - pi * jnp.maximum(infeas0 - elastic, 0.0)
+        slope = jnp.minimum(slope, -0.5 * jnp.dot(d, B @ d))
+        noise = 1e-14 * (1.0 + jnp.abs(phi0))
+        active_g = (lam_q > 1e-10) | (lin.G + lin.JG @ d >= -1e-9)
+        free = (s.z + d > zlo + tol_lo) & (s.z + d < zhi - tol_hi)
+        J_act = jnp.concatenate([lin.JG * active_g[:, None], lin.JH], axis=0) * free[None, :]
+        row_on = jnp.concatenate([active_g, jnp.ones((p,), bool)])
+
+        def correction(raw_full):
+            c_full = jnp.concatenate([scales.g * raw_full[1:1 + m], scales.h * raw_full[1 + m:]])
+            c_full = jnp.where(row_on & jnp.isfinite(c_full), c_full, 0.0)
+            gram = J_act @ J_act.T + jnp.diag(jnp.where(row_on, 0.0, 1.0))
+            gram = gram + 1e-12 * (1.0 + jnp.max(jnp.abs(gram), initial=0.0)) * jnp.eye(m + p, dtype=dtype)
+            corr = -J_act.T @ jnp.linalg.solve(gram, c_full)
+            return jnp.where(jnp.all(jnp.isfinite(corr)), corr, 0.0)
+
+        def ls_cond(c):
+            j, accepted = c[0], c[1]
+            return ~accepted & (j < options.max_line_search + 1)
+
+        def ls_body(c):
+            j, _, _, _, raw_full = c
+            alpha = jnp.where(j <= 1, 1.0, 0.5 ** (j - 1).astype(dtype))
+            step_j = jnp.where(j == 1, d + correction(raw_full), alpha * d)
+            z_t = jnp.clip(s.z + step_j, zlo, zhi)
+            z_t = jnp.where(z_t - zlo <= tol_lo, zlo, jnp.where(zhi - z_t <= tol_hi, zhi, z_t))
+            raw_t = stack(z_t)
+            phi, _ = merit(raw_t, scales, pi)
+            ok = jnp.isfinite(phi) & (phi <= phi0 + 1e-4 * alpha * slope + noise)
+            raw_full = jnp.where(j == 0, raw_t, raw_full)
+            return j + 1, ok, z_t, jnp.where(jnp.isfinite(phi), phi, jnp.inf), raw_full
+
+        j, accepted, z_new, phi_new, _ = lax.while_loop(
+            ls_cond, ls_body, (jnp.asarray(0), jnp.asarray(False), s.z, jnp.asarray(jnp.inf, dtype), raw))
+        tiny = _safe_inf_norm(d) <= 1e-14 * (1.0 + _safe_inf_norm(s.z))
+        move = (accepted | tiny) & ~stop
+        B = jnp.where(accepted | tiny, B, jnp.eye(n, dtype=dtype))
+
+        return _State(
+            k=jnp.where(stop, s.k, s.k + 1),
+            z=jnp.where(move, z_new, s.z),
+            lam=jnp.where(stop, s.lam, lam_q), nu=jnp.where(stop, s.nu, nu_q),
+            B=B, pi=pi, scales=scales,
+            prev=lin, z_prev=s.z, lin=lin, raw=raw, kkt=kkt, done=stop,
+            evaluations=s.evaluations + 1 + j,
+            last_step=jnp.where(stop, s.last_step, _safe_inf_norm(jnp.where(move, z_new - s.z, d))),
+        )
+
+    state = lax.while_loop(cond, body, state)
+    z, lin, raw, scales = state.z, state.lin, state.raw, state.scales
+    x = problem.clip(problem.from_scaled(z))
+    x = jnp.where(z <= zlo, problem.lower, jnp.where(z >= zhi, problem.upper, x))
+    f, g, h = raw[0], raw[1:1 + m], raw[1 + m:]
+    lam_p = state.lam * scales.g / scales.f
+    nu_p = state.nu * scales.h / scales.f
+    dxdz = jnp.where(problem.log_scale, x, problem.scale)
+    r_x = grad_lag(lin, state.lam, state.nu) / (scales.f * dxdz)
+    on_lo = x <= problem.lower
+    on_hi = x >= problem.upper
+    mu_lo = jnp.where(on_lo, jnp.maximum(r_x, 0.0), 0.0)
+    mu_hi = jnp.where(on_hi, jnp.maximum(-r_x, 0.0), 0.0)
+    kkt = state.kkt
+    feasible = kkt.feasibility <= options.feas_tol
+    converged = _converged(kkt, options)
+    grad_phi = lin.JG.T @ jnp.maximum(lin.G, 0.0) + lin.JH.T @ lin.H
+    blo, bhi = bound_activity(zlo, zhi, z, grad_phi)
+    small = 1e-3 * options.feas_tol
+    conflict = Conflict(
+        inequality=(~feasible) & (lin.G > options.feas_tol),
+        equality=(~feasible) & (jnp.abs(lin.H) > options.feas_tol),
+        lower=(~feasible) & blo & (grad_phi > small),
+        upper=(~feasible) & bhi & (grad_phi < -small),
+    )
+    return Result(
+        x=x, f=f, g=g, h=h, lam=lam_p, nu=nu_p, mu_lower=mu_lo, mu_upper=mu_hi, converged=converged,
+        feasible=feasible, kkt=kkt, iterations=state.k, inner_iterations=state.evaluations, penalty=state.pi,
+        polished=jnp.asarray(False), conflict=conflict, scales=scales,
+    )
+
+
+__all__ = ["solve_sqp"]

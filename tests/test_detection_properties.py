@@ -42,9 +42,10 @@ def test_pd_is_a_probability_at_least_pfa_and_gradients_finite(sw, snr, lp, n):
 def test_pd_monotone_in_snr_pfa_and_n(sw, snr, lp, n, d):
     pfa = 10.0**lp
     p = float(_PD[sw](snr, pfa, n))
-    # Monotone up to the round-off of the summed series: near Pd = 1 the sum carries ~1e-14 of
-    # absolute rounding (measured worst |dPd| against mpmath over the grid: 3.9e-13).
-    tol = 1e-13
+    # Monotone up to the round-off of the summed series: near Pd = 1 with thousands of pulses the
+    # sum carries up to 3.9e-13 of absolute rounding (measured worst |dPd| against mpmath over the
+    # grid), and the two evaluations compared may err in opposite directions: 2 x 3.9e-13.
+    tol = 8e-13
     assert float(_PD[sw](snr + d, pfa, n)) >= p - tol
     assert float(_PD[sw](snr, min(pfa * (1 + d), 0.5), n)) >= p - tol
     assert float(_PD[sw](snr, pfa, min(n + d, 1e4))) >= p - tol

@@ -88,6 +88,11 @@ def _tight_limits(model: DesignModel, margin: float) -> np.ndarray:
     return model.limits - model.sign * margin * model.scales * (~model.is_equality)
 
 
+def _scaled_misses(model: DesignModel, report) -> np.ndarray:
+    """Per requirement, by how much (scaled units) a requirement report misses it; 0 when met."""
+    return np.array([max(-r["slack"], 0.0) / scale for r, scale in zip(report, model.scales)])
+
+
 def _solve_in_batches(solver, batch: int, *columns):
     """``solver`` over rows of ``columns`` in batches of exactly ``batch`` rows (the last one
     padded by repeating its final row), so the compiled program of the first call is reused."""
@@ -179,7 +184,7 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
     # same compiled program: limits are arguments), up to three times.
     pins_all = np.broadcast_to(model.integer, final_x.shape)
     for _ in range(3):
-        miss = np.array([[max(-r["slack"], 0.0) / sc for r, sc in zip(rep, model.scales)] for rep in reports])
+        miss = np.array([_scaled_misses(model, rep) for rep in reports])
         near = np.flatnonzero((miss.max(axis=1) > 0) & (miss.max(axis=1) <= 1e-3))
         if near.size == 0:
             break
@@ -188,7 +193,7 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
         for j, c in enumerate(near):
             x_new = np.where(pins_all[c], final_x[c], np.asarray(r3.x)[j])
             rep = model.requirement_report(x_new, model.combo_table[c])
-            if sum(max(-r["slack"], 0.0) / sc for r, sc in zip(rep, model.scales)) < miss[c].sum():
+            if _scaled_misses(model, rep).sum() < miss[c].sum():
                 final_x[c], reports[c] = x_new, rep
                 final_conv[c] = bool(np.asarray(r3.converged)[j])
                 final_lam[c] = np.asarray(r3.lam)[j]
@@ -198,7 +203,7 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
     if np.isfinite(score).any():
         best = int(np.argmin(score))
     else:
-        viol = [sum(max(-r["slack"], 0.0) / scale for r, scale in zip(rep, model.scales)) for rep in reports]
+        viol = [_scaled_misses(model, rep).sum() for rep in reports]
         best = int(np.argmin(viol))
     # multi-start statistics of the winning combination's relaxed solve
     fb = f[best]

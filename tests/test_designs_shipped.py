@@ -96,11 +96,22 @@ def check_beats_grid_and_initial(model, opt, points=5):
     return found
 
 
+def requirement_keys(model):
+    """"case.output" of every requirement, in spec order."""
+    return [f"{r.case}.{r.output}" for r in model.requirements]
+
+
+def requirement_values_at_optimum(model, opt):
+    """{"case.output": value} of every requirement at the optimum."""
+    values = model.evaluate_all(opt.x, model.combo_table[opt.combo_index])[1]
+    return dict(zip(requirement_keys(model), np.asarray(values)))
+
+
 def active_gradient_parallel(model, opt, requirement_output, rtol):
     """Lagrange condition with one active requirement and every variable interior:
     ∂f/∂x_i ÷ ∂g/∂x_i is the same for all i (in the variables' log scale)."""
     combo = jnp.asarray(model.combo_table[opt.combo_index])
-    k = [f"{r.case}.{r.output}" for r in model.requirements].index(requirement_output)
+    k = requirement_keys(model).index(requirement_output)
     x = jnp.asarray(opt.x)
     gf = np.asarray(jax.grad(lambda y: model.raw_objective(y, combo))(x)) * opt.x
     gg = np.asarray(jax.grad(lambda y: model.requirement_values(y, combo)[k])(x)) * opt.x
@@ -207,14 +218,13 @@ def test_fire_control_tracker_gain_minimises_book_lag_noise_cost_13_4_1():
 @pytest.mark.slow
 def test_lidar_rangefinder_optimum_is_a_lagrange_point_of_the_mist_requirement():
     model, opt = optimum("lidar_rangefinder")
-    values = dict(zip([f"{r.case}.{r.output}" for r in model.requirements],
-                      np.asarray(model.evaluate_all(opt.x, model.combo_table[opt.combo_index])[1])))
+    values = requirement_values_at_optimum(model, opt)
     assert abs(values["mist.snr_margin_db"] - MARGIN) < 1e-9
     assert values["clear.snr_margin_db"] > 0.01  # inactive
     active_gradient_parallel(model, opt, "mist.snr_margin_db", rtol=1e-8)
     # the power is the least that meets the mist margin at the optimal aperture (scipy root)
     combo = jnp.asarray(model.combo_table[opt.combo_index])
-    k = [f"{r.case}.{r.output}" for r in model.requirements].index("mist.snr_margin_db")
+    k = requirement_keys(model).index("mist.snr_margin_db")
     ip = model.variable_names.index("peak_power_w")
 
     def margin(p):
@@ -243,8 +253,7 @@ def test_radiometer_submunition_35_ghz_cannot_meet_the_footprint():
 @pytest.mark.slow
 def test_radiometer_submunition_optimum_is_a_lagrange_point_of_the_rain_requirement():
     model, opt = optimum("radiometer_submunition")
-    values = dict(zip([f"{r.case}.{r.output}" for r in model.requirements],
-                      np.asarray(model.evaluate_all(opt.x, model.combo_table[opt.combo_index])[1])))
+    values = requirement_values_at_optimum(model, opt)
     assert abs(values["rain.snr_margin_db"] - MARGIN) < 1e-9
     active_gradient_parallel(model, opt, "rain.snr_margin_db", rtol=1e-8)
 

@@ -267,24 +267,65 @@ def _stack_fgh(problem: Problem, theta, x):
     return jnp.concatenate([problem.f(x, theta)[None], problem.g(x, theta), problem.h(x, theta)])
 
 
-def _auto_scales(problem: Problem, z0, theta, m: int, p: int, options: SolverOptions) -> Scales:
+def scales_from(jac, val, m: int, options: SolverOptions) -> Scales:
+    """Function scales (module docstring) from the unscaled Jacobian ``jac`` (rows f, g, h) of
+    the stacked (f, g, h) with respect to z, and its values ``val``, at the start."""
+    dtype = val.dtype
+    if options.f_scale == "auto":
+        sf = 1.0 / jnp.clip(_safe_inf_norm(jnp.where(jnp.isfinite(jac[0]), jac[0], 0.0)), 1e-8, 1e8)
+    else:
+        sf = jnp.asarray(options.f_scale, dtype)
+    if options.constraint_scaling and val.shape[0] > 1:
+        den = jnp.maximum(jnp.max(jnp.abs(jac[1:]), axis=1), 0.01 * jnp.abs(val[1:]))
+        den = jnp.where(jnp.isfinite(den), den, 1.0)
+        sc = 1.0 / jnp.clip(den, 1e-8, 1e8)
+    else:
+        sc = jnp.ones((val.shape[0] - 1,), dtype)
+    return jax.tree_util.tree_map(lax.stop_gradient, Scales(sf, sc[:m], sc[m:]))
+
+
+def _auto_scales(problem: Problem, z0, theta, m: int, options: SolverOptions) -> Scales:
     def fgh(z):
         v = _stack_fgh(problem, theta, problem.from_scaled(z))
         return v, v
 
     jac, val = jax.jacfwd(fgh, has_aux=True)(z0)
-    dtype = z0.dtype
-    if options.f_scale == "auto":
-        sf = 1.0 / jnp.clip(_safe_inf_norm(jnp.where(jnp.isfinite(jac[0]), jac[0], 0.0)), 1e-8, 1e8)
-    else:
-        sf = jnp.asarray(options.f_scale, dtype)
-    if options.constraint_scaling and m + p > 0:
-        den = jnp.maximum(jnp.max(jnp.abs(jac[1:]), axis=1), 0.01 * jnp.abs(val[1:]))
-        den = jnp.where(jnp.isfinite(den), den, 1.0)
-        sc = 1.0 / jnp.clip(den, 1e-8, 1e8)
-    else:
-        sc = jnp.ones((m + p,), dtype)
-    return jax.tree_util.tree_map(lax.stop_gradient, Scales(sf, sc[:m], sc[m:]))
+    return scales_from(jac, val, m, options)
+
+
+def snap_to_bounds(z, zlo, zhi):
+    """z with components within 1e-9 (relative) of a bound put on it — the tolerance that
+    identifies bound activity — so that an active bound is met exactly."""
+    tol_lo = 1e-9 * (1.0 + jnp.abs(jnp.where(jnp.isfinite(zlo), zlo, 0.0)))
+    tol_hi = 1e-9 * (1.0 + jnp.abs(jnp.where(jnp.isfinite(zhi), zhi, 0.0)))
+    return jnp.where(z - zlo <= tol_lo, zlo, jnp.where(zhi - z <= tol_hi, zhi, z))
+
+
+def physical_point(problem: Problem, z, zlo, zhi):
+    """x(z) inside [lower, upper], exactly on a bound where z is on it."""
+    x = problem.clip(problem.from_scaled(z))
+    return jnp.where(z <= zlo, problem.lower, jnp.where(z >= zhi, problem.upper, x))
+
+
+def bound_multipliers(problem: Problem, x, r_x):
+    """(μ_lower, μ_upper) ≥ 0 from the physical Lagrangian gradient r_x at x (a fixed variable
+    is on both bounds: the sign of r picks the multiplier)."""
+    mu_lo = jnp.where(x <= problem.lower, jnp.maximum(r_x, 0.0), 0.0)
+    mu_hi = jnp.where(x >= problem.upper, jnp.maximum(-r_x, 0.0), 0.0)
+    return mu_lo, mu_hi
+
+
+def conflict_masks(feasible, G, H, z, zlo, zhi, grad_phi, options: SolverOptions) -> Conflict:
+    """:class:`Conflict` of an answer: violated scaled constraints G, H and the bounds at which
+    the infeasibility gradient ``grad_phi`` (any positive scaling of ∇_z φ) pushes out of the box."""
+    blo, bhi = bound_activity(zlo, zhi, z, grad_phi)
+    small = 1e-3 * options.feas_tol
+    return Conflict(
+        inequality=(~feasible) & (G > options.feas_tol),
+        equality=(~feasible) & (jnp.abs(H) > options.feas_tol),
+        lower=(~feasible) & blo & (grad_phi > small),
+        upper=(~feasible) & bhi & (grad_phi < -small),
+    )
 
 
 def scaled_start(problem: Problem, x0, theta):
@@ -477,13 +518,8 @@ class _Final(NamedTuple):
 def _final_evaluation(problem: Problem, theta, scales: Scales, zlo, zhi, z, lam, nu) -> _Final:
     """Physical outputs at z: x clipped into the bounds, f, g, h, physical multipliers, bound
     multipliers, the scaled KKT residual and ∇_z φ — one linearisation of the problem functions."""
-    # snap to a bound within the tolerance that identifies bound activity (1e-9 relative), so
-    # an active bound is met exactly and gets its multiplier
-    tol_lo = 1e-9 * (1.0 + jnp.abs(jnp.where(jnp.isfinite(zlo), zlo, 0.0)))
-    tol_hi = 1e-9 * (1.0 + jnp.abs(jnp.where(jnp.isfinite(zhi), zhi, 0.0)))
-    z = jnp.where(z - zlo <= tol_lo, zlo, jnp.where(zhi - z <= tol_hi, zhi, z))
-    x = problem.clip(problem.from_scaled(z))
-    x = jnp.where(z <= zlo, problem.lower, jnp.where(z >= zhi, problem.upper, x))
+    z = snap_to_bounds(z, zlo, zhi)  # an active bound is met exactly and gets its multiplier
+    x = physical_point(problem, z, zlo, zhi)
     dxdz = jnp.where(problem.log_scale, x, problem.scale)
     (f, g, h), vjp = jax.vjp(lambda xx: (problem.f(xx, theta), problem.g(xx, theta), problem.h(xx, theta)), x)
     lam_p = lam * scales.g / scales.f
@@ -499,10 +535,7 @@ def _final_evaluation(problem: Problem, theta, scales: Scales, zlo, zhi, z, lam,
     r_x, gphi_x = grads[0], grads[1]
     grad_z = scales.f * dxdz * r_x
     kkt = _kkt_from(z, grad_z, G, H, lam, zlo, zhi)
-    on_lo = x <= problem.lower
-    on_hi = x >= problem.upper  # both for a fixed variable: the sign of r picks the multiplier
-    mu_lo = jnp.where(on_lo, jnp.maximum(r_x, 0.0), 0.0)
-    mu_hi = jnp.where(on_hi, jnp.maximum(-r_x, 0.0), 0.0)
+    mu_lo, mu_hi = bound_multipliers(problem, x, r_x)
     return _Final(z, x, f, g, h, lam_p, nu_p, mu_lo, mu_hi, kkt, dxdz * gphi_x, G, H)
 
 
@@ -541,7 +574,7 @@ def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptio
 
         return solve_sqp(problem, x0, theta, options)
     dtype, zlo, zhi, z0, m, p = scaled_start(problem, x0, theta)
-    scales = _auto_scales(problem, z0, theta, m, p, options)
+    scales = _auto_scales(problem, z0, theta, m, options)
     model = make_model(problem, theta, scales)
     unconstrained = (m + p) == 0
     can_restore = options.restore and not unconstrained
@@ -640,14 +673,7 @@ def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptio
 
     feasible = final.kkt.feasibility <= options.feas_tol
     converged = _converged(final.kkt, options)
-    blo, bhi = bound_activity(zlo, zhi, final.z, final.grad_phi)
-    small = 1e-3 * options.feas_tol
-    conflict = Conflict(
-        inequality=(~feasible) & (final.G > options.feas_tol),
-        equality=(~feasible) & (jnp.abs(final.H) > options.feas_tol),
-        lower=(~feasible) & blo & (final.grad_phi > small),
-        upper=(~feasible) & bhi & (final.grad_phi < -small),
-    )
+    conflict = conflict_masks(feasible, final.G, final.H, final.z, zlo, zhi, final.grad_phi, options)
     return Result(
         x=final.x, f=final.f, g=final.g, h=final.h, lam=final.lam, nu=final.nu,
         mu_lower=final.mu_lower, mu_upper=final.mu_upper, converged=converged, feasible=feasible,

@@ -56,7 +56,6 @@ import jax.numpy as jnp
 from jax import lax
 
 from .constrained import (
-    Conflict,
     KKTResidual,
     Result,
     Scales,
@@ -64,8 +63,12 @@ from .constrained import (
     _converged,
     _kkt_from,
     _safe_inf_norm,
-    bound_activity,
+    bound_multipliers,
+    conflict_masks,
+    physical_point,
     scaled_start,
+    scales_from,
+    snap_to_bounds,
 )
 from .problem import Problem
 from .qp import solve_qp
@@ -92,30 +95,13 @@ class _State(NamedTuple):
     B: jax.Array
     pi: jax.Array
     scales: Scales
-    prev: _Lin  # linearisation at the previous iterate (for the BFGS update)
+    lin: _Lin  # linearisation at z_prev: the previous iterate's for the BFGS update; at z once done
     z_prev: jax.Array
-    lin: _Lin  # linearisation at z (valid once done)
     raw: jax.Array  # unscaled (f, g, h) at z (valid once done)
     kkt: KKTResidual
     done: jax.Array
     evaluations: jax.Array
     last_step: jax.Array
-
-
-def _scales_from(jac, val, m: int, options: SolverOptions) -> Scales:
-    """Function scales from the unscaled Jacobian and values at the start (as ``solve``)."""
-    dtype = val.dtype
-    if options.f_scale == "auto":
-        sf = 1.0 / jnp.clip(_safe_inf_norm(jnp.where(jnp.isfinite(jac[0]), jac[0], 0.0)), 1e-8, 1e8)
-    else:
-        sf = jnp.asarray(options.f_scale, dtype)
-    if options.constraint_scaling and val.shape[0] > 1:
-        den = jnp.maximum(jnp.max(jnp.abs(jac[1:]), axis=1), 0.01 * jnp.abs(val[1:]))
-        den = jnp.where(jnp.isfinite(den), den, 1.0)
-        sc = 1.0 / jnp.clip(den, 1e-8, 1e8)
-    else:
-        sc = jnp.ones((val.shape[0] - 1,), dtype)
-    return jax.tree_util.tree_map(lax.stop_gradient, Scales(sf, sc[:m], sc[m:]))
 
 
 def _scaled_lin(val, jac, s: Scales, m: int) -> _Lin:
@@ -181,8 +167,6 @@ def solve_sqp(problem: Problem, x0, theta=None, options: SolverOptions = SolverO
     and ``constraint_scaling`` mean what they mean for the augmented Lagrangian."""
     dtype, zlo, zhi, z0, m, p = scaled_start(problem, x0, theta)
     n = z0.shape[0]
-    tol_lo = 1e-9 * (1.0 + jnp.abs(jnp.where(jnp.isfinite(zlo), zlo, 0.0)))
-    tol_hi = 1e-9 * (1.0 + jnp.abs(jnp.where(jnp.isfinite(zhi), zhi, 0.0)))
 
     def stack(z):
         x = problem.from_scaled(z)
@@ -211,7 +195,7 @@ def solve_sqp(problem: Problem, x0, theta=None, options: SolverOptions = SolverO
         k=jnp.asarray(0), z=z0, lam=jnp.zeros((m,), dtype), nu=jnp.zeros((p,), dtype),
         B=jnp.eye(n, dtype=dtype), pi=jnp.asarray(0.0, dtype),
         scales=Scales(jnp.ones((), dtype), jnp.ones((m,), dtype), jnp.ones((p,), dtype)),
-        prev=empty, z_prev=z0, lin=empty, raw=jnp.zeros((1 + m + p,), dtype),
+        lin=empty, z_prev=z0, raw=jnp.zeros((1 + m + p,), dtype),
         kkt=KKTResidual(inf, inf, inf), done=jnp.asarray(False), evaluations=jnp.asarray(0),
         last_step=inf,
     )
@@ -223,15 +207,14 @@ def solve_sqp(problem: Problem, x0, theta=None, options: SolverOptions = SolverO
         jac, raw = linearize(s.z)
         finite = jnp.all(jnp.isfinite(jac)) & jnp.all(jnp.isfinite(raw))
         scales = jax.tree_util.tree_map(lambda a, b: jnp.where(s.k == 0, a, b),
-                                        _scales_from(jac, raw, m, options), s.scales)
+                                        scales_from(jac, raw, m, options), s.scales)
         lin = _scaled_lin(raw, jac, scales, m)
 
         # BFGS update with the multipliers of the last QP
-        step = s.z - s.z_prev
-        y = grad_lag(lin, s.lam, s.nu) - grad_lag(s.prev, s.lam, s.nu)
-        B = jnp.where((s.k > 0) & finite, _damped_bfgs(s.B, step, y, s.k == 1), s.B)
-
         gl = grad_lag(lin, s.lam, s.nu)
+        y = gl - grad_lag(s.lin, s.lam, s.nu)
+        B = jnp.where((s.k > 0) & finite, _damped_bfgs(s.B, s.z - s.z_prev, y, s.k == 1), s.B)
+
         kkt = _kkt_from(s.z, gl, lin.G, lin.H, s.lam, zlo, zhi)
         # KKT within tolerance and the last step short (√tol): the scaled gradient can be small
         # long before the iterate is accurate when f's scale was set far from the optimum
@@ -254,7 +237,8 @@ def solve_sqp(problem: Problem, x0, theta=None, options: SolverOptions = SolverO
         slope = jnp.minimum(slope, -0.5 * jnp.dot(d, B @ d))
         noise = 1e-14 * (1.0 + jnp.abs(phi0))
         active_g = (lam_q > 1e-10) | (lin.G + lin.JG @ d >= -1e-9)
-        free = (s.z + d > zlo + tol_lo) & (s.z + d < zhi - tol_hi)
+        z_full = snap_to_bounds(jnp.clip(s.z + d, zlo, zhi), zlo, zhi)
+        free = (z_full > zlo) & (z_full < zhi)  # variables the full step leaves off the bounds
         J_act = jnp.concatenate([lin.JG * active_g[:, None], lin.JH], axis=0) * free[None, :]
         row_on = jnp.concatenate([active_g, jnp.ones((p,), bool)])
 
@@ -274,8 +258,7 @@ def solve_sqp(problem: Problem, x0, theta=None, options: SolverOptions = SolverO
             j, _, _, _, raw_full = c
             alpha = jnp.where(j <= 1, 1.0, 0.5 ** (j - 1).astype(dtype))
             step_j = jnp.where(j == 1, d + correction(raw_full), alpha * d)
-            z_t = jnp.clip(s.z + step_j, zlo, zhi)
-            z_t = jnp.where(z_t - zlo <= tol_lo, zlo, jnp.where(zhi - z_t <= tol_hi, zhi, z_t))
+            z_t = snap_to_bounds(jnp.clip(s.z + step_j, zlo, zhi), zlo, zhi)
             raw_t = stack(z_t)
             phi, _ = merit(raw_t, scales, pi)
             ok = jnp.isfinite(phi) & (phi <= phi0 + 1e-4 * alpha * slope + noise)
@@ -293,36 +276,24 @@ def solve_sqp(problem: Problem, x0, theta=None, options: SolverOptions = SolverO
             z=jnp.where(move, z_new, s.z),
             lam=jnp.where(stop, s.lam, lam_q), nu=jnp.where(stop, s.nu, nu_q),
             B=B, pi=pi, scales=scales,
-            prev=lin, z_prev=s.z, lin=lin, raw=raw, kkt=kkt, done=stop,
+            lin=lin, z_prev=s.z, raw=raw, kkt=kkt, done=stop,
             evaluations=s.evaluations + 1 + j,
             last_step=jnp.where(stop, s.last_step, _safe_inf_norm(jnp.where(move, z_new - s.z, d))),
         )
 
     state = lax.while_loop(cond, body, state)
     z, lin, raw, scales = state.z, state.lin, state.raw, state.scales
-    x = problem.clip(problem.from_scaled(z))
-    x = jnp.where(z <= zlo, problem.lower, jnp.where(z >= zhi, problem.upper, x))
+    x = physical_point(problem, z, zlo, zhi)
     f, g, h = raw[0], raw[1:1 + m], raw[1 + m:]
     lam_p = state.lam * scales.g / scales.f
     nu_p = state.nu * scales.h / scales.f
     dxdz = jnp.where(problem.log_scale, x, problem.scale)
-    r_x = grad_lag(lin, state.lam, state.nu) / (scales.f * dxdz)
-    on_lo = x <= problem.lower
-    on_hi = x >= problem.upper
-    mu_lo = jnp.where(on_lo, jnp.maximum(r_x, 0.0), 0.0)
-    mu_hi = jnp.where(on_hi, jnp.maximum(-r_x, 0.0), 0.0)
+    mu_lo, mu_hi = bound_multipliers(problem, x, grad_lag(lin, state.lam, state.nu) / (scales.f * dxdz))
     kkt = state.kkt
     feasible = kkt.feasibility <= options.feas_tol
     converged = _converged(kkt, options)
     grad_phi = lin.JG.T @ jnp.maximum(lin.G, 0.0) + lin.JH.T @ lin.H
-    blo, bhi = bound_activity(zlo, zhi, z, grad_phi)
-    small = 1e-3 * options.feas_tol
-    conflict = Conflict(
-        inequality=(~feasible) & (lin.G > options.feas_tol),
-        equality=(~feasible) & (jnp.abs(lin.H) > options.feas_tol),
-        lower=(~feasible) & blo & (grad_phi > small),
-        upper=(~feasible) & bhi & (grad_phi < -small),
-    )
+    conflict = conflict_masks(feasible, lin.G, lin.H, z, zlo, zhi, grad_phi, options)
     return Result(
         x=x, f=f, g=g, h=h, lam=lam_p, nu=nu_p, mu_lower=mu_lo, mu_upper=mu_hi, converged=converged,
         feasible=feasible, kkt=kkt, iterations=state.k, inner_iterations=state.evaluations, penalty=state.pi,

@@ -17,6 +17,10 @@ The model is the spec's own (``DesignModel``): the best catalog combination of t
 4. Process cold start: ``diffsense optimize`` of the whole spec (all catalog combinations,
    8 starts, integer rounding) in a fresh process with an empty compilation cache and again
    with the cache it filled.
+5. Lanes in lockstep: the design optimiser's first step (every catalog combination from each
+   of 8 starts: one lane per pair) as one compiled call, with ``lockstep`` = 1 (lanes in
+   sequence, ``lax.map``), the number of combinations (one start's catalog options per vmap)
+   and all lanes in one vmap. Compile and warm run time, converged lanes.
 
 Run: python benchmarks/bench_design.py [--spec designs/ore_pass.toml] [--repeats 10] [--skip-cli]
 Times are wall-clock on this machine (2 cores, possibly shared: ratios measured in one run).
@@ -193,6 +197,32 @@ def cli_cold_start(spec_path):
             print(f"{label:32s} {time.perf_counter() - t:7.1f} s  exit {p.returncode}")
 
 
+def lanes_in_lockstep(model, problem):
+    print("\n== 5. design optimiser's first step: all (start, combination) lanes in one call ==")
+    from diffsense.design_optimizer import lane_solver
+    from diffsense.optimize.multistart import start_points
+
+    limits = _tight_limits(model, 1e-7)
+    starts = np.vstack([model.initial[None, :], start_points(problem, 7, seed=0, method="lhs")])
+    n_c, n_s = len(model.combinations), starts.shape[0]
+    cols = (np.repeat(starts[:, None, :], n_c, axis=1).reshape(-1, starts.shape[1]),
+            np.repeat(model.combo_table[None], n_s, axis=0).reshape(-1, model.combo_table.shape[1]),
+            np.broadcast_to(limits, (n_s * n_c, limits.size)), np.zeros((n_s * n_c, starts.shape[1]), bool))
+    args = tuple(jnp.asarray(c) for c in cols)
+    print(f"{'lanes per vmap':>24s} {'compile s':>9s} {'run s':>7s} {'converged':>9s}")
+    rows = []
+    for label, k in (("1 (in sequence)", 1), (f"{n_c} (combinations)", n_c), (f"{n_s * n_c} (all)", None)):
+        fn = lane_solver(problem, SolverOptions(polish=False), k)
+        t = time.perf_counter()
+        jax.block_until_ready(fn(*args))
+        tc = time.perf_counter() - t
+        tr = _median_time(lambda: jax.block_until_ready(fn(*args)), 3)
+        r = fn(*args)
+        rows.append(tr)
+        print(f"{label:>24s} {tc - tr:9.2f} {tr:7.3f} {int(np.sum(np.asarray(r.converged))):5d}/{n_s * n_c}")
+    print(f"run time ratios to lanes in sequence: {rows[1] / rows[0]:.1f}x, {rows[2] / rows[0]:.1f}x")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--spec", default=str(ROOT / "designs" / "ore_pass.toml"))
@@ -204,6 +234,7 @@ def main():
     comparison(model, combo, problem, theta, args.repeats)
     tolerance_sweep(model, combo, problem, theta, args.repeats)
     batch_throughput(model, combo, problem, theta, (16, 256))
+    lanes_in_lockstep(model, problem)
     if not args.skip_cli:
         cli_cold_start(args.spec)
 

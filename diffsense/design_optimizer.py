@@ -15,6 +15,18 @@ Steps (all catalog combinations and all starts run in one vectorised call each):
 3. **Choice.** The feasible combination with the lowest objective wins. When no combination is
    feasible the least-infeasible answer is returned with ``feasible`` False and the
    requirements it leaves unmet.
+
+**Lanes.** Every (start, combination) pair is one *lane*, and all lanes of a step are solved by
+one compiled call. ``lockstep`` sets how many lanes run in one ``jax.vmap``: a vmapped batch
+advances in lockstep, so each loop of the solve (outer and inner iterations, the line search,
+the series and root finders of the model) runs for as many trips as its slowest lane needs,
+on every lane. Groups of ``lockstep`` lanes are run one after another by ``jax.lax.map``
+inside the same program. ``lockstep=None`` picks 1 on CPU (lanes one after another: the work
+is the sum of the lanes' own work) and all lanes on an accelerator (one vmap: the device is
+wide and lanes run side by side). Measured on ``ore_pass.toml`` (80 lanes, 2-core CPU,
+``benchmarks/bench_design.py``): 1.3 s with ``lockstep=1`` against 5–7 s with all 80 lanes, or
+with the 10 catalog combinations of one start, in one vmap. A value equal to the number of
+combinations solves each start's catalog options in one vmap.
 """
 
 from __future__ import annotations
@@ -28,6 +40,7 @@ import numpy as np
 
 from .design import DesignModel
 from .optimize import Problem, SolverOptions, solve
+from .optimize.constrained import jit_with_options
 from .optimize.integer import rounding_candidates
 from .optimize.multistart import start_points
 
@@ -93,6 +106,35 @@ def _scaled_misses(model: DesignModel, report) -> np.ndarray:
     return np.array([max(-r["slack"], 0.0) / scale for r, scale in zip(report, model.scales)])
 
 
+def _default_lockstep() -> Optional[int]:
+    """1 on a CPU backend, None (all lanes in one vmap) on an accelerator (module docstring)."""
+    return 1 if jax.default_backend() == "cpu" else None
+
+
+def lane_solver(problem: Problem, options: SolverOptions, lockstep: Optional[int]):
+    """One jitted call solving rows of (x0, catalog row, limits, pinned mask): ``lockstep`` rows
+    at a time in one vmap, the groups in sequence by ``lax.map`` (``None``: every row in one
+    vmap; 1: one row at a time, unbatched). The row count must be a multiple of ``lockstep``."""
+
+    def one(x, c, l, pin):
+        return solve(problem, x, (c, l, x, pin), options)
+
+    def run(x, c, l, pin):
+        n = x.shape[0]
+        k = n if lockstep is None else int(lockstep)
+        if k >= n:
+            return jax.vmap(one)(x, c, l, pin)
+        if k == 1:
+            return jax.lax.map(lambda a: one(*a), (x, c, l, pin))
+        if n % k:
+            raise ValueError(f"lane_solver: {n} rows are not a multiple of lockstep={k}")
+        grouped = tuple(a.reshape((n // k, k) + a.shape[1:]) for a in (x, c, l, pin))
+        out = jax.lax.map(lambda a: jax.vmap(one)(*a), grouped)
+        return jax.tree_util.tree_map(lambda a: a.reshape((n,) + a.shape[2:]), out)
+
+    return jit_with_options(run, "optimized")
+
+
 def _solve_in_batches(solver, batch: int, *columns):
     """``solver`` over rows of ``columns`` in batches of exactly ``batch`` rows (the last one
     padded by repeating its final row), so the compiled program of the first call is reused."""
@@ -107,9 +149,14 @@ def _solve_in_batches(solver, batch: int, *columns):
 
 
 def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, margin: float = 1e-7,
-                    options: Optional[SolverOptions] = None) -> DesignOptimum:
-    """Optimise ``model`` (see the module docstring). Deterministic for a given ``seed``."""
+                    options: Optional[SolverOptions] = None, lockstep: Optional[int] = -1) -> DesignOptimum:
+    """Optimise ``model`` (see the module docstring). Deterministic for a given ``seed``.
+
+    ``lockstep``: lanes per vmap (module docstring); the default -1 picks by backend, None puts
+    every lane of a step in one vmap, a positive count must divide the number of lanes."""
     options = options or SolverOptions(polish=False)
+    if lockstep == -1:
+        lockstep = _default_lockstep()
     n_var = len(model.variable_names)
     n_combo = len(model.combinations)
     limits = _tight_limits(model, margin)
@@ -119,22 +166,29 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
     if n_starts > 1:
         starts = np.vstack([starts, start_points(problem, n_starts - 1, seed=seed, method="lhs")])
     n_s = starts.shape[0]
-    # grid: combos x starts
-    x0 = np.repeat(starts[None, :, :], n_combo, axis=0).reshape(-1, n_var)
-    combos = np.repeat(model.combo_table[:, None, :], n_s, axis=1).reshape(-1, model.combo_table.shape[1])
+    # grid: starts x combos (start-major, so lockstep = n_combo vmaps one start's catalog options)
+    x0 = np.repeat(starts[:, None, :], n_combo, axis=1).reshape(-1, n_var)
+    combos = np.repeat(model.combo_table[None, :, :], n_s, axis=0).reshape(-1, model.combo_table.shape[1])
     lim = np.broadcast_to(limits, (x0.shape[0], limits.size))
 
-    solver = jax.jit(jax.vmap(lambda x, c, l, pin: solve(problem, x, (c, l, x, pin), options)))
+    solver = lane_solver(problem, options, lockstep)
     res = solver(jnp.asarray(x0), jnp.asarray(combos), jnp.asarray(lim), jnp.zeros(x0.shape, dtype=bool))
-    f = np.asarray(res.f).reshape(n_combo, n_s)
-    feas = np.asarray(res.feasible).reshape(n_combo, n_s)
-    conv = np.asarray(res.converged).reshape(n_combo, n_s)
-    xs = np.asarray(res.x).reshape(n_combo, n_s, n_var)
+
+    def by_combo(a):  # (n_s * n_combo, ...) -> (n_combo, n_s, ...)
+        a = np.asarray(a)
+        return np.swapaxes(a.reshape((n_s, n_combo) + a.shape[1:]), 0, 1)
+
+    f = by_combo(res.f)
+    feas = by_combo(res.feasible)
+    conv = by_combo(res.converged)
+    xs = by_combo(res.x)
+    lam_all = by_combo(res.lam)
+    feas_measure = by_combo(res.kkt.feasibility)
 
     best_rows = []
     for c in range(n_combo):
         score = np.where(feas[c], f[c], np.inf)
-        k = int(np.argmin(score)) if np.isfinite(score).any() else int(np.argmin(np.asarray(res.kkt.feasibility).reshape(n_combo, n_s)[c]))
+        k = int(np.argmin(score)) if np.isfinite(score).any() else int(np.argmin(feas_measure[c]))
         best_rows.append(k)
 
     # integer rounding with neighbour verification
@@ -142,7 +196,7 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
     final_f = np.array([f[c, best_rows[c]] for c in range(n_combo)])
     final_feas = np.array([feas[c, best_rows[c]] for c in range(n_combo)])
     final_conv = np.array([conv[c, best_rows[c]] for c in range(n_combo)])
-    final_lam = np.array([np.asarray(res.lam).reshape(n_combo, n_s, -1)[c, best_rows[c]] for c in range(n_combo)])
+    final_lam = np.array([lam_all[c, best_rows[c]] for c in range(n_combo)])
     int_idx = np.flatnonzero(model.integer)
     if int_idx.size:
         int_lo, int_hi = np.ceil(model.lower[int_idx]), np.floor(model.upper[int_idx])

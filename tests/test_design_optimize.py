@@ -15,10 +15,11 @@ from diffsense.spec import load_spec
 DESIGNS = Path(__file__).resolve().parents[1] / "designs"
 
 
-@pytest.fixture(scope="module")
-def sidescan():
+@pytest.fixture(scope="module", params=[1, None], ids=["lanes-in-sequence", "lanes-in-one-vmap"])
+def sidescan(request):
+    # lockstep=1: lanes one after another (the CPU default); None: every lane in one vmap
     model = DesignModel(load_spec(DESIGNS / "sidescan_sonar.toml"))
-    return model, optimize_design(model, n_starts=4, seed=1)
+    return model, optimize_design(model, n_starts=4, seed=1, lockstep=request.param)
 
 
 def test_sidescan_optimum_meets_every_requirement_within_bounds(sidescan):

@@ -42,10 +42,14 @@ def test_pd_is_a_probability_at_least_pfa_and_gradients_finite(sw, snr, lp, n):
 def test_pd_monotone_in_snr_pfa_and_n(sw, snr, lp, n, d):
     pfa = 10.0**lp
     p = float(_PD[sw](snr, pfa, n))
-    # Monotone up to the round-off of the summed series: near Pd = 1 with thousands of pulses the
-    # sum carries up to 3.9e-13 of absolute rounding (measured worst |dPd| against mpmath over the
-    # grid), and the two evaluations compared may err in opposite directions: 2 x 3.9e-13.
-    tol = 8e-13
+    # Monotone up to the error of each evaluation, and the two compared may err in opposite
+    # directions. One evaluation errs by (a) the round-off of the summed series, up to 3.9e-13
+    # (measured worst |dPd| against mpmath over the reference grid), plus (b) the threshold's:
+    # Pd = Pfa + (1 - Q(N, T)) - miss carries gammaincc's relative error in Q times Pfa, below
+    # 3e-13 for N <= 3000 and 2e-11 up to N = 1e4 (measured against mpmath,
+    # diffsense/detection/threshold.py). Near Pd = 1 with N = 4110, Pfa = 0.32 that is 1.8e-12.
+    q_rel = 3e-13 if n + d <= 3000 else 2e-11
+    tol = 2.0 * (3.9e-13 + q_rel * min(pfa * (1 + d), 0.5))
     assert float(_PD[sw](snr + d, pfa, n)) >= p - tol
     assert float(_PD[sw](snr, min(pfa * (1 + d), 0.5), n)) >= p - tol
     assert float(_PD[sw](snr, pfa, min(n + d, 1e4))) >= p - tol

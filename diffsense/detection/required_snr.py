@@ -122,8 +122,11 @@ def _required_snr_jvp(swerling, primals, tangents):
     dpd, dpfa, dn = tangents
     x = _required_snr(pd_t, pfa, n, swerling)
     f = lambda xx, pp, nn: _pd_db(xx, pp, nn, swerling)
-    _, dpd_dx = jax.jvp(f, (x, pfa, n), (jnp.ones_like(x), jnp.zeros_like(pfa), jnp.zeros_like(n)))
-    _, dpd_theta = jax.jvp(f, (x, pfa, n), (jnp.zeros_like(x), dpfa, dn))
+    # both directional derivatives of Pd from one linearisation (one copy of the Pd series in
+    # the compiled program, its linear map applied twice)
+    _, pd_lin = jax.linearize(f, x, pfa, n)
+    dpd_dx = pd_lin(jnp.ones_like(x), jnp.zeros_like(pfa), jnp.zeros_like(n))
+    dpd_theta = pd_lin(jnp.zeros_like(x), dpfa, dn)
     return x, (dpd - dpd_theta) / dpd_dx
 
 

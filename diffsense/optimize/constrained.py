@@ -556,6 +556,7 @@ class _State(NamedTuple):
     phase: jax.Array
     restored: jax.Array
     polished: jax.Array
+    viol: jax.Array  # scaled constraint violation at z (inf before the first iteration)
 
 
 def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptions()) -> Result:
@@ -593,6 +594,7 @@ def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptio
         phase=jnp.asarray(_AL),
         restored=jnp.asarray(False),
         polished=jnp.asarray(False),
+        viol=jnp.asarray(jnp.inf, dtype),
     )
 
     def polish(args):
@@ -617,10 +619,13 @@ def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptio
         eps_e = jnp.where(restoring, options.tol * 1e-2, s.eps)
         fun = lambda z: model.augmented(z, lam_e, nu_e, rho_e, w_f)  # noqa: E731
         z_new, its = _inner(fun, s.z, zlo, zhi, eps_e, options)
-        finite = jnp.all(jnp.isfinite(z_new)) & jnp.isfinite(fun(z_new))
-        z_new = jnp.where(finite, z_new, s.z)
-
+        # the problem functions are evaluated once per outer iteration, here (each evaluation
+        # site is a copy of the model in the compiled program): at the inner solution, or at
+        # the previous iterate when the inner solution or its values are not finite
+        finite_z = jnp.all(jnp.isfinite(z_new))
+        z_new = jnp.where(finite_z, z_new, s.z)
         (F, G, H), vjp = jax.vjp(model.FGH, z_new)
+        finite = finite_z & jnp.isfinite(F) & jnp.all(jnp.isfinite(G)) & jnp.all(jnp.isfinite(H))
         v = jnp.maximum(_safe_inf_norm(jnp.maximum(G, -s.lam / s.rho)), _safe_inf_norm(H))
         lam = jnp.clip(s.lam + s.rho * G, 0.0, options.multiplier_max)
         nu = jnp.clip(s.nu + s.rho * H, -options.multiplier_max, options.multiplier_max)
@@ -647,6 +652,11 @@ def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptio
             nu = jnp.where(polished, nu_p, nu)
             kkt = jax.tree_util.tree_map(lambda a, b: jnp.where(polished, a, b), kkt_p, kkt)
 
+        # non-finite values at the inner solution: end at the previous iterate and multipliers
+        z_new = jnp.where(finite, z_new, s.z)
+        lam = jnp.where(finite, lam, s.lam)
+        nu = jnp.where(finite, nu, s.nu)
+
         conv = _converged(kkt, options)
         out_of_iters = s.k + 1 >= options.max_outer
         ended = conv | (stall >= 3) | out_of_iters | ~finite
@@ -657,14 +667,13 @@ def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptio
         next_phase = jnp.where(ended, jnp.where(infeasible_end & evidence & can_restore, _RESTORE, _DONE), _AL)
         eps = jnp.maximum(options.tol, s.eps * 0.01)
         al_state = _State(s.k + 1, z_new, lam, nu, rho, v, eps, s.inner_total + its, stall, next_phase,
-                          s.restored, polished)
+                          s.restored, polished, jnp.where(finite, kkt.feasibility, s.viol))
 
         # restoration step (φ minimisation): keep it only if it lowers the violation
-        G_old, H_old = model.FGH(s.z)[1:]
-        viol_old = jnp.maximum(_safe_inf_norm(jnp.maximum(G_old, 0.0)), _safe_inf_norm(H_old))
-        keep = kkt.feasibility <= viol_old
+        keep = kkt.feasibility <= s.viol
         res_state = _State(s.k + 1, jnp.where(keep, z_new, s.z), s.lam, s.nu, s.rho, s.v_prev, s.eps,
-                           s.inner_total + its, s.stall, jnp.asarray(_DONE), keep, jnp.asarray(False))
+                           s.inner_total + its, s.stall, jnp.asarray(_DONE), keep, jnp.asarray(False),
+                           jnp.where(keep, kkt.feasibility, s.viol))
         return jax.tree_util.tree_map(lambda a, b: jnp.where(restoring, a, b), res_state, al_state)
 
     state = lax.while_loop(cond, body, state)

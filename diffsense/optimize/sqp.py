@@ -43,8 +43,7 @@ Scope. Fast and compact on well-posed problems; it has no restoration phase: an 
 problem ends with ``converged`` False and ``conflict`` marking the constraints left violated and
 the bounds that block progress (read from the ℓ1 infeasibility gradient), but the answer is the
 last iterate, not a least-infeasible point. :func:`diffsense.optimize.solve` (``method="al"``)
-is the robust method; the design optimiser runs SQP first and re-solves with it whatever SQP
-did not converge.
+is the robust method, and the one :func:`diffsense.design_optimizer.optimize_design` uses.
 """
 
 from __future__ import annotations

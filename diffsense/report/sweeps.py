@@ -66,15 +66,27 @@ def sweep(batch, inputs: List[Input], k: int, grid) -> tuple:
 def range_sweep(batch, model: DesignModel, inputs: List[Input], case: str, n: int = 481) -> dict:
     """SNR, required SNR, Pd and the main margin of ``case`` against range.
 
-    The range grid runs linearly from R/40 to 2 R around the case's range R (clipped to the
-    parameter's domain). ``threshold_db`` is the SNR at which the main margin requirement is
-    exactly met: snr_db − margin + limit at each range."""
+    The range grid runs linearly from R/40 to 2 R around the case's range R, or further when
+    the case still detects with Pd ≥ 0.5 at 2 R: then to 1.25 times the range where Pd first
+    falls below 0.5 on a geometric pre-sweep from 2 R to 64 R (same batch shape, so no new
+    compilation), so that the curves show where detection is lost. Clipped to the parameter's
+    domain. ``threshold_db`` is the SNR at which the main margin requirement is exactly met:
+    snr_db − margin + limit at each range."""
     k = input_index(inputs, "range_m", case)
     if k is None:
         raise LookupError(f"case '{case}' has no numeric range_m input")
     r0 = inputs[k].value
     lo = max(r0 / 40.0, inputs[k].lo or 0.0)
-    hi = min(2.0 * r0, inputs[k].hi or np.inf)
+    r_max = inputs[k].hi or np.inf
+    hi = min(2.0 * r0, r_max)
+    if hi < r_max:
+        far = np.geomspace(hi, min(64.0 * r0, r_max), n)
+        pd_far = sweep(batch, inputs, k, far)[0][case].values.get("pd")
+        if pd_far is not None:
+            pd_far = np.asarray(pd_far)
+            lost = np.flatnonzero(np.isfinite(pd_far) & (pd_far < 0.5))
+            if pd_far[0] >= 0.5:
+                hi = min(1.25 * far[lost[0]], r_max) if lost.size else far[-1]
     grid = np.linspace(lo, hi, n)
     values = sweep(batch, inputs, k, grid)
     ev = values[0][case]

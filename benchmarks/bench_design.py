@@ -199,16 +199,12 @@ def cli_cold_start(spec_path):
 
 def lanes_in_lockstep(model, problem):
     print("\n== 5. design optimiser's first step: all (start, combination) lanes in one call ==")
-    from diffsense.design_optimizer import lane_solver
+    from diffsense.design_optimizer import lane_grid, lane_solver
     from diffsense.optimize.multistart import start_points
 
-    limits = _tight_limits(model, 1e-7)
     starts = np.vstack([model.initial[None, :], start_points(problem, 7, seed=0, method="lhs")])
     n_c, n_s = len(model.combinations), starts.shape[0]
-    cols = (np.repeat(starts[:, None, :], n_c, axis=1).reshape(-1, starts.shape[1]),
-            np.repeat(model.combo_table[None], n_s, axis=0).reshape(-1, model.combo_table.shape[1]),
-            np.broadcast_to(limits, (n_s * n_c, limits.size)), np.zeros((n_s * n_c, starts.shape[1]), bool))
-    args = tuple(jnp.asarray(c) for c in cols)
+    args = tuple(jnp.asarray(c) for c in lane_grid(model, starts, _tight_limits(model, 1e-7)))
     print(f"{'lanes per vmap':>24s} {'compile s':>9s} {'run s':>7s} {'converged':>9s}")
     rows = []
     for label, k in (("1 (in sequence)", 1), (f"{n_c} (combinations)", n_c), (f"{n_s * n_c} (all)", None)):

@@ -1,6 +1,6 @@
 """Optimise a requirement spec: catalog choices, integer relaxation and multi-start.
 
-Steps (all catalog combinations and all starts run in one vectorised call each):
+Steps (all catalog combinations and all starts run in one compiled call each):
 
 1. **Continuous relaxation.** For every catalog combination and every start (the spec's
    initial design plus seeded Latin-hypercube points in the scaled box), minimise the
@@ -21,18 +21,18 @@ one compiled call. ``lockstep`` sets how many lanes run in one ``jax.vmap``: a v
 advances in lockstep, so each loop of the solve (outer and inner iterations, the line search,
 the series and root finders of the model) runs for as many trips as its slowest lane needs,
 on every lane. Groups of ``lockstep`` lanes are run one after another by ``jax.lax.map``
-inside the same program. ``lockstep=None`` picks 1 on CPU (lanes one after another: the work
-is the sum of the lanes' own work) and all lanes on an accelerator (one vmap: the device is
-wide and lanes run side by side). Measured on ``ore_pass.toml`` (80 lanes, 2-core CPU,
-``benchmarks/bench_design.py``): 1.3 s with ``lockstep=1`` against 5–7 s with all 80 lanes, or
-with the 10 catalog combinations of one start, in one vmap. A value equal to the number of
-combinations solves each start's catalog options in one vmap.
+inside the same program. ``lockstep="auto"`` (default) picks 1 on CPU (lanes one after
+another: the work is the sum of the lanes' own work) and None on an accelerator (every lane in
+one vmap: the device is wide and lanes run side by side). A value equal to the number of
+combinations solves each start's catalog options in one vmap. Measured on ``ore_pass.toml``
+(80 lanes, 2-core CPU, ``benchmarks/bench_design.py`` section 5): 0.99 s with ``lockstep=1``
+against 7.1 s with 10 lanes per vmap and 8.6 s with all 80 in one vmap.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, Optional
+from typing import List, Optional, Union
 
 import jax
 import jax.numpy as jnp
@@ -106,11 +106,6 @@ def _scaled_misses(model: DesignModel, report) -> np.ndarray:
     return np.array([max(-r["slack"], 0.0) / scale for r, scale in zip(report, model.scales)])
 
 
-def _default_lockstep() -> Optional[int]:
-    """1 on a CPU backend, None (all lanes in one vmap) on an accelerator (module docstring)."""
-    return 1 if jax.default_backend() == "cpu" else None
-
-
 def lane_solver(problem: Problem, options: SolverOptions, lockstep: Optional[int]):
     """One jitted call solving rows of (x0, catalog row, limits, pinned mask): ``lockstep`` rows
     at a time in one vmap, the groups in sequence by ``lax.map`` (``None``: every row in one
@@ -135,6 +130,16 @@ def lane_solver(problem: Problem, options: SolverOptions, lockstep: Optional[int
     return jit_with_options(run, "optimized")
 
 
+def lane_grid(model: DesignModel, starts: np.ndarray, limits: np.ndarray):
+    """Columns (x0, catalog row, limits, pinned mask) of every (start, combination) lane,
+    start-major: lanes k·n_combo … (k+1)·n_combo − 1 are start k's catalog options."""
+    n_s, n_var = starts.shape
+    n_combo = model.combo_table.shape[0]
+    x0 = np.repeat(starts[:, None, :], n_combo, axis=1).reshape(-1, n_var)
+    combos = np.tile(model.combo_table, (n_s, 1))
+    return x0, combos, np.broadcast_to(limits, (x0.shape[0], limits.size)), np.zeros(x0.shape, dtype=bool)
+
+
 def _solve_in_batches(solver, batch: int, *columns):
     """``solver`` over rows of ``columns`` in batches of exactly ``batch`` rows (the last one
     padded by repeating its final row), so the compiled program of the first call is reused."""
@@ -149,15 +154,15 @@ def _solve_in_batches(solver, batch: int, *columns):
 
 
 def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, margin: float = 1e-7,
-                    options: Optional[SolverOptions] = None, lockstep: Optional[int] = -1) -> DesignOptimum:
+                    options: Optional[SolverOptions] = None,
+                    lockstep: Union[int, str, None] = "auto") -> DesignOptimum:
     """Optimise ``model`` (see the module docstring). Deterministic for a given ``seed``.
 
-    ``lockstep``: lanes per vmap (module docstring); the default -1 picks by backend, None puts
-    every lane of a step in one vmap, a positive count must divide the number of lanes."""
+    ``lockstep``: lanes per vmap (module docstring): "auto" picks by backend, None puts every
+    lane of a step in one vmap, a positive count must divide the number of lanes."""
     options = options or SolverOptions(polish=False)
-    if lockstep == -1:
-        lockstep = _default_lockstep()
-    n_var = len(model.variable_names)
+    if lockstep == "auto":
+        lockstep = 1 if jax.default_backend() == "cpu" else None
     n_combo = len(model.combinations)
     limits = _tight_limits(model, margin)
     problem = build_problem(model)
@@ -166,13 +171,10 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
     if n_starts > 1:
         starts = np.vstack([starts, start_points(problem, n_starts - 1, seed=seed, method="lhs")])
     n_s = starts.shape[0]
-    # grid: starts x combos (start-major, so lockstep = n_combo vmaps one start's catalog options)
-    x0 = np.repeat(starts[:, None, :], n_combo, axis=1).reshape(-1, n_var)
-    combos = np.repeat(model.combo_table[None, :, :], n_s, axis=0).reshape(-1, model.combo_table.shape[1])
-    lim = np.broadcast_to(limits, (x0.shape[0], limits.size))
-
+    columns = lane_grid(model, starts, limits)
+    n_lanes = columns[0].shape[0]
     solver = lane_solver(problem, options, lockstep)
-    res = solver(jnp.asarray(x0), jnp.asarray(combos), jnp.asarray(lim), jnp.zeros(x0.shape, dtype=bool))
+    res = solver(*(jnp.asarray(c) for c in columns))
 
     def by_combo(a):  # (n_s * n_combo, ...) -> (n_combo, n_s, ...)
         a = np.asarray(a)
@@ -211,7 +213,7 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
         cand_c = np.array(cand_c)
         # the same compiled solve, integers pinned at each candidate
         pins = np.broadcast_to(model.integer, cand_x.shape)
-        r2 = _solve_in_batches(solver, x0.shape[0], cand_x, model.combo_table[cand_c],
+        r2 = _solve_in_batches(solver, n_lanes, cand_x, model.combo_table[cand_c],
                                np.broadcast_to(limits, (cand_x.shape[0], limits.size)), pins)
         r2_x = np.where(pins, cand_x, np.asarray(r2.x))
         f2 = np.asarray(r2.f)
@@ -243,7 +245,7 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
         if near.size == 0:
             break
         tighter = limits[None, :] - model.sign * (10.0 * miss[near]) * model.scales * (~model.is_equality)
-        r3 = _solve_in_batches(solver, x0.shape[0], final_x[near], model.combo_table[near], tighter, pins_all[near])
+        r3 = _solve_in_batches(solver, n_lanes, final_x[near], model.combo_table[near], tighter, pins_all[near])
         for j, c in enumerate(near):
             x_new = np.where(pins_all[c], final_x[c], np.asarray(r3.x)[j])
             rep = model.requirement_report(x_new, model.combo_table[c])

@@ -1,4 +1,4 @@
-"""Shared assertion for solvers on the Hock–Schittkowski reference problems."""
+"""Shared assertions for solvers on the Hock–Schittkowski reference problems."""
 
 import numpy as np
 
@@ -18,3 +18,13 @@ def assert_published_optimum(P, r, x_atol):
     assert float(violation(r)) <= 1e-8
     x = np.asarray(r.x)
     assert np.all(x >= np.asarray(P.problem.lower)) and np.all(x <= np.asarray(P.problem.upper))
+
+
+def assert_hs071_ipopt_multipliers(r, mu_atol):
+    """HS071 multipliers of the Ipopt example: λ = (−0.5522937, 0.1614686) for g ≥ 25 written
+    with L = f + λ g, z_L[0] = 1.087871. Our g = 25 − Πx ≤ 0 flips the first multiplier's sign.
+    The active bound x₀ = 1 is met exactly; ``mu_atol`` bounds the bound multipliers' error."""
+    np.testing.assert_allclose(float(r.lam[0]), 0.5522937, rtol=1e-6)
+    np.testing.assert_allclose(float(r.nu[0]), 0.1614686, rtol=1e-6)
+    np.testing.assert_allclose(np.asarray(r.mu_lower), [1.087871, 0, 0, 0], atol=mu_atol)
+    assert float(r.x[0]) == 1.0

@@ -82,11 +82,9 @@ def range_sweep(batch, model: DesignModel, inputs: List[Input], case: str, n: in
     if hi < r_max:
         far = np.geomspace(hi, min(64.0 * r0, r_max), n)
         pd_far = sweep(batch, inputs, k, far)[0][case].values.get("pd")
-        if pd_far is not None:
-            pd_far = np.asarray(pd_far)
-            lost = np.flatnonzero(np.isfinite(pd_far) & (pd_far < 0.5))
-            if pd_far[0] >= 0.5:
-                hi = min(1.25 * far[lost[0]], r_max) if lost.size else far[-1]
+        if pd_far is not None and float(pd_far[0]) >= 0.5:
+            lost = np.flatnonzero(np.isfinite(pd_far) & (np.asarray(pd_far) < 0.5))
+            hi = min(1.25 * far[lost[0]], r_max) if lost.size else far[-1]
     grid = np.linspace(lo, hi, n)
     values = sweep(batch, inputs, k, grid)
     ev = values[0][case]

@@ -160,16 +160,26 @@ class DesignModel:
         """Normalised objective (≈ ±1 at the initial design) to be minimised."""
         return self.raw_objective(x, combo) / self._objective_scale
 
-    def evaluate_all(self, x, combo):
-        """``(evaluations, requirement_values, raw_objective)`` at one design, compiled once per
-        model. Re-evaluating designs through this is far cheaper than eager evaluation, whose
-        root-finding and series loops would each be compiled again on every call."""
+    def _evaluate_all_jit(self):
         if self._evaluate_all is None:
             def run(x, combo):
                 ev = self.evaluate(x, combo)
                 return ev, self.requirement_values(x, combo, ev), self.raw_objective(x, combo, ev)
             self._evaluate_all = jax.jit(run)
-        return self._evaluate_all(jnp.asarray(x, dtype=float), jnp.asarray(combo, dtype=float))
+        return self._evaluate_all
+
+    def compile_evaluation(self) -> None:
+        """Trace and compile :meth:`evaluate_all` now (later calls reuse the program); lets a
+        caller compile it while another thread compiles something else."""
+        dtype = jnp.result_type(float)
+        self._evaluate_all_jit().lower(jax.ShapeDtypeStruct((len(self.variable_names),), dtype),
+                                       jax.ShapeDtypeStruct((self.combo_table.shape[1],), dtype)).compile()
+
+    def evaluate_all(self, x, combo):
+        """``(evaluations, requirement_values, raw_objective)`` at one design, compiled once per
+        model. Re-evaluating designs through this is far cheaper than eager evaluation, whose
+        root-finding and series loops would each be compiled again on every call."""
+        return self._evaluate_all_jit()(jnp.asarray(x, dtype=float), jnp.asarray(combo, dtype=float))
 
     def requirement_report(self, x, combo, tol: float = 1e-9) -> List[dict]:
         """Requirement rows {name, output, case, value, limit, unit, sense, met, slack}."""

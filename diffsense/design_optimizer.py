@@ -16,6 +16,11 @@ Steps (all catalog combinations and all starts run in one compiled call each):
    feasible the least-infeasible answer is returned with ``feasible`` False and the
    requirements it leaves unmet.
 
+**Compilation.** The first step's solve is traced, then compiled in a background thread
+while the model's evaluation program (the requirement reports at the end) is traced and
+compiled in this one: XLA compiles without holding Python's global interpreter lock, so the two
+compilations share the cores (see :func:`_first_solve`).
+
 **Lanes.** Every (start, combination) pair is one *lane*, and all lanes of a step are solved by
 one compiled call. ``lockstep`` sets how many lanes run in one ``jax.vmap``: a vmapped batch
 advances in lockstep, so each loop of the solve (outer and inner iterations, the line search,
@@ -25,8 +30,8 @@ inside the same program. ``lockstep="auto"`` (default) picks 1 on CPU (lanes one
 another: the work is the sum of the lanes' own work) and None on an accelerator (every lane in
 one vmap: the device is wide and lanes run side by side). A value equal to the number of
 combinations solves each start's catalog options in one vmap. Measured on ``ore_pass.toml``
-(80 lanes, 2-core CPU, ``benchmarks/bench_design.py`` section 5): 0.99 s with ``lockstep=1``
-against 7.1 s with 10 lanes per vmap and 8.6 s with all 80 in one vmap.
+(80 lanes, 2-core CPU, ``benchmarks/bench_design.py`` section 5): 0.65 s with ``lockstep=1``
+against 4.1 s with 10 lanes per vmap and 8.1 s with all 80 in one vmap.
 """
 
 from __future__ import annotations
@@ -75,9 +80,9 @@ def build_problem(model: DesignModel) -> Problem:
     """
     ineq = ~model.is_equality
     eq = model.is_equality
-    # jitted once: the solver calls these from many places (inner solve, line search, multiplier
-    # update, scaling, final evaluation); JAX traces a jitted function once per signature and
-    # reuses it at every call site, which halves the time to trace the solve
+    # jitted once: the solver calls these from several places (the inner solve, the outer
+    # linearisation, the problem's size check); JAX traces a jitted function once per signature
+    # and reuses it at every call site, which shortens the time to trace the solve
     residuals = jax.jit(model.residuals)
     objective_fn = jax.jit(model.objective)
 

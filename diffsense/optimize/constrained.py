@@ -75,8 +75,9 @@ linearisation (values and n-column Jacobian of (f, g, h)) per outer trip at the 
 A setup trip before the first outer iteration linearises at z₀ and takes the scales from it;
 every later trip's linearisation gives the multiplier update, the KKT test and the restoration
 checks; the last accepted one gives the answer (with ``polish`` a polished iterate is
-linearised once more at the end). On the ore-pass design this cut the single-solve compile
-time from 15–16 s to 11.6 s (four sites to two).
+linearised once more at the end). Going from four sites to two cut the design optimiser's
+compilation on the ore-pass design from 14.5 s to 5.9 s and its tracing from 5.6 s to 2.6 s
+(``JAX_LOG_COMPILES=1 diffsense optimize designs/ore_pass.toml``, empty compilation cache).
 
 Outputs are physical: x is projected onto [lower, upper] (so it never violates a bound) and
 f, g, h, the KKT residual and ``feasible`` are all evaluated at that projected point;

@@ -264,3 +264,14 @@ def test_domain_errors_at_the_api_edge():
         solve(prob, np.zeros(3))
     with pytest.raises(DomainError):
         solve(prob, np.array([np.nan, 0.0]))
+
+
+def test_start_where_the_objective_is_not_finite_is_not_converged():
+    # f = sqrt(x - 1) is NaN for x < 1: from x0 = 0.5 the solve ends at the start with the
+    # values it found there (f NaN; g = x - 3 = -2.5, met), and never reports convergence
+    prob = Problem(lambda x, _: jnp.sqrt(x[0] - 1.0), 0.0, 4.0 * np.ones(1),
+                   inequality=lambda x, _: jnp.array([x[0] - 3.0]))
+    r = make_solver(prob, OPTS, compile="fast")(jnp.array([0.5]))
+    assert not bool(r.converged)
+    assert float(r.x[0]) == 0.5 and np.isnan(float(r.f))
+    assert float(r.g[0]) == -2.5 and bool(r.feasible)

@@ -642,7 +642,7 @@ def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptio
         eps_e = jnp.where(restoring, options.tol * 1e-2, s.eps)
         fun = lambda z: model.augmented(z, lam_e, nu_e, rho_e, w_f)  # noqa: E731
         # the setup trip only linearises at the start (its scales are not known before); under
-        # vmap the skipped inner solve still runs, with a tolerance that stops it at once
+        # vmap the skipped inner solve still runs, with a tolerance that stops it after one step
         z_new, its = lax.cond(
             setup, lambda: (s.z, jnp.asarray(0)),
             lambda: _inner(fun, s.z, zlo, zhi, jnp.where(setup, 1e30, eps_e), options))
@@ -698,6 +698,7 @@ def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptio
             kkt = pick(polished, kkt_p, kkt)
 
         # non-finite values at the inner solution: end at the previous iterate and multipliers
+        val_t, jac_t = val, jac
         z_new = jnp.where(finite, z_new, s.z)
         lam = jnp.where(finite, lam, s.lam)
         nu = jnp.where(finite, nu, s.nu)
@@ -724,9 +725,10 @@ def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptio
                            jnp.where(keep, val, s.val), jnp.where(keep, jac, s.jac))
 
         # setup trip: the start, its linearisation and the scales; a start where the problem
-        # functions are not finite ends the solve there
+        # functions are not finite ends the solve there, answering with those values (so the
+        # result is neither feasible nor converged)
         setup_state = s._replace(phase=jnp.where(finite, _AL, _DONE), z=z_new, scales=scales,
-                                 val=jnp.where(finite, val, s.val), jac=jnp.where(finite, jac, s.jac))
+                                 val=val_t, jac=jac_t)
         return pick(setup, setup_state, pick(restoring, res_state, al_state))
 
     state = lax.while_loop(cond, body, state)
@@ -738,8 +740,11 @@ def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptio
         x = physical_point(problem, z, zlo, zhi)
         final = _final_from(problem, scales, zlo, zhi, z, x, state.val, state.jac, lam, nu, m)
 
-    feasible = final.kkt.feasibility <= options.feas_tol
-    converged = _converged(final.kkt, options)
+    # an answer whose values are not finite (a start outside the model's domain) is never
+    # converged, and feasible only when its constraint values are finite and met
+    finite_g = jnp.all(jnp.isfinite(final.g)) & jnp.all(jnp.isfinite(final.h))
+    feasible = (final.kkt.feasibility <= options.feas_tol) & finite_g
+    converged = _converged(final.kkt, options) & finite_g & jnp.isfinite(final.f)
     conflict = conflict_masks(feasible, final.G, final.H, final.z, zlo, zhi, final.grad_phi, options)
     return Result(
         x=final.x, f=final.f, g=final.g, h=final.h, lam=final.lam, nu=final.nu,

@@ -47,6 +47,7 @@ import numpy as np
 
 from .design import DesignModel
 from .optimize import Problem, SolverOptions, solve
+from .optimize.batch import map_in_lockstep, resolve_lockstep
 from .optimize.constrained import jit_with_options
 from .optimize.integer import rounding_candidates
 from .optimize.multistart import start_points
@@ -122,17 +123,7 @@ def lane_solver(problem: Problem, options: SolverOptions, lockstep: Optional[int
         return solve(problem, x, (c, l, x, pin), options)
 
     def run(x, c, l, pin):
-        n = x.shape[0]
-        k = n if lockstep is None else int(lockstep)
-        if k >= n:
-            return jax.vmap(one)(x, c, l, pin)
-        if k == 1:
-            return jax.lax.map(lambda a: one(*a), (x, c, l, pin))
-        if n % k:
-            raise ValueError(f"lane_solver: {n} rows are not a multiple of lockstep={k}")
-        grouped = tuple(a.reshape((n // k, k) + a.shape[1:]) for a in (x, c, l, pin))
-        out = jax.lax.map(lambda a: jax.vmap(one)(*a), grouped)
-        return jax.tree_util.tree_map(lambda a: a.reshape((n,) + a.shape[2:]), out)
+        return map_in_lockstep(one, (x, c, l, pin), lockstep)
 
     return jit_with_options(run, "optimized")
 
@@ -182,8 +173,7 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
     ``lockstep``: lanes per vmap (module docstring): "auto" picks by backend, None puts every
     lane of a step in one vmap, a positive count must divide the number of lanes."""
     options = options or SolverOptions(polish=False)
-    if lockstep == "auto":
-        lockstep = 1 if jax.default_backend() == "cpu" else None
+    lockstep = resolve_lockstep(lockstep)
     n_combo = len(model.combinations)
     limits = _tight_limits(model, margin)
     problem = build_problem(model)

@@ -30,8 +30,8 @@ inside the same program. ``lockstep="auto"`` (default) picks 1 on CPU (lanes one
 another: the work is the sum of the lanes' own work) and None on an accelerator (every lane in
 one vmap: the device is wide and lanes run side by side). A value equal to the number of
 combinations solves each start's catalog options in one vmap. Measured on ``ore_pass.toml``
-(80 lanes, 2-core CPU, ``benchmarks/bench_design.py`` section 5): 0.65 s with ``lockstep=1``
-against 4.1 s with 10 lanes per vmap and 8.1 s with all 80 in one vmap.
+(80 lanes, 2-core CPU, ``benchmarks/bench_design.py`` section 5): 0.68 s with ``lockstep=1``
+against 3.8 s with 10 lanes per vmap and 7.0 s with all 80 in one vmap.
 """
 
 from __future__ import annotations

@@ -46,8 +46,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from .design import DesignModel
-from .optimize import Problem, SolverOptions, solve
-from .optimize.batch import map_in_lockstep, resolve_lockstep
+from .optimize import Problem, SolverOptions, solve_batch
+from .optimize.batch import resolve_lockstep
 from .optimize.constrained import jit_with_options
 from .optimize.integer import rounding_candidates
 from .optimize.multistart import start_points
@@ -115,15 +115,13 @@ def _scaled_misses(model: DesignModel, report) -> np.ndarray:
 
 
 def lane_solver(problem: Problem, options: SolverOptions, lockstep: Optional[int]):
-    """One jitted call solving rows of (x0, catalog row, limits, pinned mask): ``lockstep`` rows
-    at a time in one vmap, the groups in sequence by ``lax.map`` (``None``: every row in one
-    vmap; 1: one row at a time, unbatched). The row count must be a multiple of ``lockstep``."""
-
-    def one(x, c, l, pin):
-        return solve(problem, x, (c, l, x, pin), options)
+    """One jitted call solving rows of (x0, catalog row, limits, pinned mask), θ = (catalog row,
+    limits, x0, pinned mask) per row: :func:`diffsense.optimize.solve_batch` with ``lockstep``
+    rows per vmap (see :func:`diffsense.optimize.batch.map_in_lockstep`). The row count must be
+    a multiple of ``lockstep``."""
 
     def run(x, c, l, pin):
-        return map_in_lockstep(one, (x, c, l, pin), lockstep)
+        return solve_batch(problem, x, (c, l, x, pin), options, lockstep)
 
     return jit_with_options(run, "optimized")
 

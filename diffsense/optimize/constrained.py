@@ -646,7 +646,6 @@ def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptio
         z_new, its = lax.cond(
             setup, lambda: (s.z, jnp.asarray(0)),
             lambda: _inner(fun, s.z, zlo, zhi, jnp.where(setup, 1e30, eps_e), options))
-        its = jnp.where(setup, 0, its)
         # the problem functions are evaluated once per trip, here (each evaluation site is a copy
         # of the model in the compiled program): value and Jacobian at the inner solution (put
         # exactly on the bounds it is within rounding of), or at the previous iterate when the

@@ -60,6 +60,7 @@ from .constrained import (
     Scales,
     SolverOptions,
     _converged,
+    _dxdz,
     _kkt_from,
     _safe_inf_norm,
     bound_multipliers,
@@ -286,7 +287,7 @@ def solve_sqp(problem: Problem, x0, theta=None, options: SolverOptions = SolverO
     f, g, h = raw[0], raw[1:1 + m], raw[1 + m:]
     lam_p = state.lam * scales.g / scales.f
     nu_p = state.nu * scales.h / scales.f
-    dxdz = jnp.where(problem.log_scale, x, problem.scale)
+    dxdz = _dxdz(problem, x)
     mu_lo, mu_hi = bound_multipliers(problem, x, grad_lag(lin, state.lam, state.nu) / (scales.f * dxdz))
     kkt = state.kkt
     feasible = kkt.feasibility <= options.feas_tol

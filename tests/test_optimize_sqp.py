@@ -5,6 +5,7 @@ Ipopt documentation's HS071 multipliers; Brooker eqs. 14.11–14.12; closed form
 """
 
 import functools
+from pathlib import Path
 
 import jax
 import jax.numpy as jnp
@@ -17,6 +18,9 @@ from diffsense.optimize import reference_problems as rp
 
 from _reference_checks import HS_WITH_PUBLISHED_OPTIMUM, assert_hs071_ipopt_multipliers, assert_published_optimum
 from diffsense.optimize.qp import solve_qp
+from diffsense.optimize import solve
+
+DESIGNS = Path(__file__).resolve().parents[1] / "designs"
 
 SQP = SolverOptions(method="sqp")
 
@@ -37,22 +41,6 @@ def _run(name):
 
 
 # ----------------------------------------------------------------- QP subproblem solver
-def test_qp_box_constrained_diagonal_closed_form():
-    # min ½ Σ qᵢyᵢ² + cᵢyᵢ on lo ≤ y ≤ hi: y = clip(−c/q, lo, hi); u = max(±(q y + c), 0) on the bounds
-    rng = np.random.default_rng(3)
-    q = rng.uniform(0.1, 10.0, 6)
-    c = rng.normal(0.0, 5.0, 6)
-    lo, hi = -np.ones(6), np.ones(6)
-    A = np.vstack([np.eye(6), -np.eye(6)])
-    b = np.concatenate([hi, -lo])
-    sol = solve_qp(jnp.diag(q), jnp.asarray(c), jnp.asarray(A), jnp.asarray(b))
-    y = np.clip(-c / q, lo, hi)
-    np.testing.assert_allclose(np.asarray(sol.y), y, atol=1e-12)
-    grad = q * y + c
-    np.testing.assert_allclose(np.asarray(sol.u), np.concatenate([np.maximum(-grad, 0), np.maximum(grad, 0)]),
-                               atol=1e-10)
-
-
 def test_qp_random_problems_satisfy_kkt_conditions():
     rng = np.random.default_rng(0)
     fn = jax.jit(solve_qp)
@@ -121,3 +109,28 @@ def test_infeasible_problem_is_reported_with_its_conflicting_constraints():
     assert np.all(x >= 0.0) and np.all(x <= 5.0)
     for leaf in jax.tree_util.tree_leaves(r):
         assert np.all(np.isfinite(np.asarray(leaf, dtype=float)))
+
+
+def test_ore_pass_flat_optimum_lands_on_the_book_beamwidth_rule_in_few_iterations():
+    # Brooker 8.16 at 94 GHz with the Gunn transmitter: of the requirements only the beam (≤ 1.1°)
+    # binds at the optimum, so the antenna is the book's rule d = 70 λ/θ (8.16.7) and every pulse
+    # width, bandwidth, pulse count and PRF that meets the rest is optimal too: a 4-dimensional
+    # set of optima. With an interior-point QP the SQP wandered along it for 33 iterations.
+    from diffsense.design import DesignModel
+    from diffsense.design_optimizer import build_problem
+    from diffsense.spec import load_spec
+
+    model = DesignModel(load_spec(DESIGNS / "ore_pass.toml"))
+    combo = [c.index for c in model.combinations
+             if c.values.get("freq_hz") == 94e9 and "Gunn" in " ".join(c.options.values())][0]
+    problem = build_problem(model)
+    theta = (jnp.asarray(model.combo_table[combo]), jnp.asarray(model.limits), jnp.asarray(model.initial),
+             jnp.zeros(len(model.initial), dtype=bool))
+    r = jax.jit(lambda x0, th: solve(problem, x0, th, SQP))(jnp.asarray(model.initial), theta)
+    assert bool(r.converged) and bool(r.feasible)
+    assert int(r.iterations) <= 6
+    d_star = 70.0 * (299_792_458.0 / 94e9) / 1.1
+    np.testing.assert_allclose(float(r.x[0]), d_star, rtol=1e-8)
+    # objective of the spec: 10 per metre of antenna + 0.6 (94 GHz band) + 1 (Gunn)
+    objective = float(model.evaluate_all(np.asarray(r.x), model.combo_table[combo])[2])
+    np.testing.assert_allclose(objective, 10.0 * d_star + 1.6, rtol=1e-9)

@@ -7,9 +7,10 @@
 * :mod:`.constrained` — :func:`solve`: PHR augmented Lagrangian over a bounded inner solve
   (optimistix BFGS on a bounded reparameterisation, or jaxopt L-BFGS-B), active-set Newton
   polish, least-infeasibility restoration; :func:`make_solver` for a jitted solver.
-* :mod:`.sqp` — ``SolverOptions(method="sqp")``: SQP with damped BFGS, elastic QP
-  subproblems and an ℓ1 merit line search with second-order correction; :mod:`.qp` — its
-  dense interior-point QP solver.
+* :mod:`.sqp` — ``SolverOptions(method="sqp")``: SQP with damped BFGS, one linearisation per
+  loop trip, an ℓ1 merit line search with second-order correction; its subproblems by
+  :mod:`.active_set` (Goldfarb–Idnani dual active-set QP) and, when the linearised constraints
+  are inconsistent, as elastic QPs by :mod:`.qp` (dense interior-point QP solver).
 * :mod:`.sensitivity` — implicit KKT derivatives dx*/dθ, envelope df*/dθ (shadow prices),
   :func:`differentiable_solver` (custom JVP).
 * :mod:`.integer` — integer variables (relax, round, verify neighbours) and catalog choices.

@@ -122,8 +122,9 @@ class SolverOptions:
     ``f_scale``: "auto" or a positive number multiplying f; ``constraint_scaling``: scale g, h.
     ``restore``: run the least-infeasibility solve when the answer is infeasible.
     ``method``: "al" (this module's augmented Lagrangian) or "sqp" (:mod:`.sqp`, for small
-    dense problems; uses ``max_sqp``, ``qp_iterations``, ``elastic_weight`` and
-    ``max_line_search`` and none of the AL-specific settings).
+    dense problems; uses ``max_sqp``, ``qp_iterations`` and ``elastic_weight`` (the
+    interior-point steps and ℓ1 weight of its elastic subproblem) and ``max_line_search``, and
+    none of the AL-specific settings).
     """
 
     tol: float = 1e-8

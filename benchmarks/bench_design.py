@@ -200,7 +200,8 @@ def tolerance_sweep(model, combo, problem, theta, repeats):
             options = SolverOptions(method=method, polish=False, tol=tol, feas_tol=tol)
             x, conv, _, ts = run_ours(model, problem, theta, options, repeats)
             obj = _objective(model, x, combo)
-            print(f"{method:>6s} {tol:8.0e} {ts*1e3:9.2f} {abs(obj-ref)/abs(ref):9.1e} {_violation(model, x, combo):9.1e}"
+            viol = _violation(model, x, combo)
+            print(f"{method:>6s} {tol:8.0e} {ts*1e3:9.2f} {abs(obj-ref)/abs(ref):9.1e} {viol:9.1e}"
                   f"{'' if conv else '  not converged'}")
     print("rel err: against the AL solve at tol = feas_tol = 1e-11; time: median of back-to-back calls")
 

@@ -1,4 +1,4 @@
-"""SQP solver and its interior-point QP against published and closed-form optima.
+"""SQP solver and its interior-point QP (elastic subproblems) against published and closed-form optima.
 
 Sources as in test_optimize_constrained.py: Hock & Schittkowski (LNEMS 187, 1981) optima; the
 Ipopt documentation's HS071 multipliers; Brooker eqs. 14.11–14.12; closed forms per test.

@@ -4,11 +4,11 @@
                                            A_I y ≤ b_I  (the other rows),      Q positive definite
 
 Method: Goldfarb & Idnani, "A numerically stable dual method for solving strictly convex
-quadratic programs", Math. Program. 27 (1983) 1–33 (the method of Powell's QL and of the
-``quadprog`` package). It starts from the minimiser on the equality rows alone, which is dual
+quadratic programs", Math. Program. 27 (1983) 1–33 (the method the ``quadprog`` package
+implements). It starts from the minimiser on the equality rows alone, which is dual
 feasible, and adds violated inequality rows one at a time. Adding row p with multiplier t
-moves the iterate along z = H a_p (H the inverse Hessian restricted to the null space of the
-active rows) and the active multipliers by −t r (r = N* a_p, their rate of change):
+moves the iterate by −t z, z = H a_p (H the inverse Hessian restricted to the null space of
+the active rows), and the active multipliers by −t r (r = N* a_p, their rate of change):
 
     t₁ = s_p / a_pᵀz     (full step: row p becomes active; s_p = a_pᵀy − b_p > 0)
     t₂ = min_{j active inequality, r_j > 0} u_j / r_j     (partial step: row j's multiplier
@@ -29,13 +29,13 @@ positive definite. Violations count above 1e-12·(1 + |b_p| + |A_p||y|) (roundin
 row's terms); the most violated row per Euclidean row norm is added first.
 
 ``ok`` is False — and the caller should use another method — when the inequality rows are
-inconsistent with each other and the equalities, when the equality rows are linearly
-and inconsistent (the Cholesky factor is not finite, or the rows are left unmet by more than
-1e-9 of their terms' size; dependent but consistent equalities are solved, with one of their
-many multiplier vectors), after ``max_iterations`` steps, or when the answer fails the
-a-posteriori test ‖Qy + c + Aᵀu‖∞ ≤ 1e-9 (1 + ‖c‖∞ + ‖Qy‖∞ + ‖|A|ᵀ|u|‖∞):
-on inconsistent rows rounding can let nearly dependent rows pass the independence test,
-after which the multipliers grow without bound instead of the method stopping with t = ∞.
+inconsistent with each other and the equalities; when the equality rows are linearly
+dependent and inconsistent (the Cholesky factor is not finite, or the rows are left unmet by
+more than 1e-9 of their terms' size; dependent but consistent equalities are solved, with one
+of their many multiplier vectors); after ``max_iterations`` steps; or when the answer fails
+the a-posteriori test ‖Qy + c + Aᵀu‖∞ ≤ 1e-9 (1 + ‖c‖∞ + ‖Qy‖∞ + ‖|A|ᵀ|u|‖∞): on
+inconsistent rows rounding can let nearly dependent rows pass the independence test, after
+which the multipliers grow without bound instead of the method stopping with t = ∞.
 """
 
 from __future__ import annotations

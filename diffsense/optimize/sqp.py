@@ -44,8 +44,13 @@ method of SciPy's SLSQP (Kraft, DFVLR-FB 88-28, 1988), with three choices of its
 * **Damped BFGS.** B starts as I, is rescaled by yᵀy/sᵀy before its first update (Shanno &
   Phua) and is updated with Powell's damping (yᵀs ≥ 0.2 sᵀBs), so it stays positive definite.
 
-The ℓ1 merit φ = F + π(Σ max(Gᵢ, 0) + Σ |Hⱼ|) with π ≥ 1.5 max|multiplier| (never decreased) is
-decreased by an Armijo search (sufficient decrease 1e-4·α·φ′, plus 1e-14·(1 + |φ|) of rounding):
+The ℓ1 merit φ = F + π(Σ max(Gᵢ, 0) + Σ |Hⱼ|), with π = max(π̂, (π_old + π̂)/2) and
+π̂ = 1.5 max|multiplier| (Powell's rule, Numerical Analysis Dundee 1977, as in SLSQP: π can fall
+back towards the multipliers after a large early estimate; a π held at its largest value —
+1500 after an elastic first step on one ore-pass start, against multipliers below 1 later —
+makes every full step that bends a nearly active constraint fail the merit test, and that
+start then crept along at step lengths of 2⁻⁹ for 100 iterations), is decreased by an Armijo
+search (sufficient decrease 1e-4·α·φ′, plus 1e-14·(1 + |φ|) of rounding):
 the full step first; then, against the Maratos effect (a full step near the solution that the
 merit rejects because the constraints curve), the full step plus the second-order correction
 −J_Aᵀ(J_A J_Aᵀ)⁻¹ c_A(z + d) on the active constraints (Nocedal & Wright §18.3, eq. 18.51 with
@@ -265,7 +270,8 @@ def solve_sqp(problem: Problem, x0, theta=None, options: SolverOptions = SolverO
         settled = ((_safe_inf_norm(d) <= options.tol * (1.0 + _safe_inf_norm(z)))
                    | (jnp.dot(d, B @ d) <= options.tol ** 2 * (1.0 + jnp.abs(lin.F))))
         stop = (_converged(kkt, options) & settled) | (k >= options.max_sqp)
-        pi = jnp.maximum(pi_old, 1.5 * jnp.maximum(_safe_inf_norm(lam_q), _safe_inf_norm(nu_q)) + 1e-8)
+        need = 1.5 * jnp.maximum(_safe_inf_norm(lam_q), _safe_inf_norm(nu_q)) + 1e-8
+        pi = jnp.maximum(need, 0.5 * (pi_old + need))
         phi0, infeas0 = merit(raw, scales, pi)
         slope = jnp.dot(lin.dF, d) - pi * jnp.maximum(infeas0 - elastic, 0.0)
         slope = jnp.minimum(slope, -0.5 * jnp.dot(d, B @ d))

@@ -113,8 +113,8 @@ def test_infeasible_problem_is_reported_with_its_conflicting_constraints():
 
 @functools.lru_cache(maxsize=None)
 def _ore_pass_94ghz_gunn():
-    """The shipped ore-pass model at 94 GHz with the Gunn transmitter: (model, catalog row,
-    jitted SQP solve of (x0, θ)), and the optimum of that combination by the book's rule."""
+    """The shipped ore-pass model at 94 GHz with the Gunn transmitter: (model, index of that
+    catalog combination, problem, jitted SQP solve of (x0, θ)), built once per test process."""
     from diffsense.design import DesignModel
     from diffsense.design_optimizer import build_problem
     from diffsense.spec import load_spec

@@ -117,6 +117,9 @@ def make_batch_solver(problem: Problem, options: SolverOptions = SolverOptions()
     again. One compilation per (padded) batch shape."""
     k = resolve_lockstep(lockstep)
     mesh = batch_mesh(devices) if shard else None
+    if mesh is not None:
+        sharding = NamedSharding(mesh, PartitionSpec("batch"))
+        replicated = NamedSharding(mesh, PartitionSpec())
     n_dev = 1 if mesh is None else mesh.devices.size
     multiple = n_dev * (1 if k is None else k)
     cache = {}
@@ -155,14 +158,12 @@ def make_batch_solver(problem: Problem, options: SolverOptions = SolverOptions()
             if key not in cache:
                 cache[key] = jit_with_options(run, compile)
         else:
-            sharding = NamedSharding(mesh, PartitionSpec("batch"))
-            replicated = NamedSharding(mesh, PartitionSpec())
             x_sh = replicated if shared_x0 else sharding
+            th_sh = jax.tree_util.tree_map(lambda _: sharding, thp)
             if key not in cache:
-                th_sh = jax.tree_util.tree_map(lambda _: sharding, thp)
                 cache[key] = jit_with_options(run, compile, in_shardings=(x_sh, th_sh), out_shardings=sharding)
             x0p = jax.device_put(x0p, x_sh)
-            thp = jax.device_put(thp, jax.tree_util.tree_map(lambda _: sharding, thp))
+            thp = jax.device_put(thp, th_sh)
         out = cache[key](x0p, thp)
         if pad:
             out = jax.tree_util.tree_map(lambda a: a[:B], out)

@@ -240,6 +240,11 @@ def solve_sqp(problem: Problem, x0, theta=None, options: SolverOptions = SolverO
     def grad_lag(lin: _Lin, lam, nu):
         return lin.dF + lin.JG.T @ lam + lin.JH.T @ nu
 
+    def step_length(j):
+        """α of line-search trial j: 1 for the full step (j = 0) and the corrected step (j = 1),
+        then halved per trial."""
+        return jnp.where(j <= 1, 1.0, 0.5 ** jnp.maximum(j - 1, 0).astype(dtype))
+
     def trial_point(s_z, d, j, raw_full, J_act, row_on, scales):
         """Trial j of the line search from s_z along d: the full step, then the full step with
         the second-order correction, then the step halved per trial."""
@@ -251,8 +256,7 @@ def solve_sqp(problem: Problem, x0, theta=None, options: SolverOptions = SolverO
             corr = -J_act.T @ jnp.linalg.solve(gram, c_full)
             return d + jnp.where(jnp.all(jnp.isfinite(corr)), corr, 0.0)
 
-        alpha = jnp.where(j <= 1, 1.0, 0.5 ** (j - 1).astype(dtype))
-        step = lax.cond(j == 1, correction, lambda: alpha * d)
+        step = lax.cond(j == 1, correction, lambda: step_length(j) * d)
         return snap_to_bounds(jnp.clip(s_z + step, zlo, zhi), zlo, zhi)
 
     def subproblem(z, lin, raw, B, scales, pi_old, lam_old, nu_old, k):
@@ -311,7 +315,7 @@ def solve_sqp(problem: Problem, x0, theta=None, options: SolverOptions = SolverO
 
         # Armijo test of the ℓ1 merit (sufficient decrease 1e-4·α·φ′ plus rounding)
         phi_t, _ = merit(raw_t, scales, s.pi)
-        alpha = jnp.where(s.j <= 1, 1.0, 0.5 ** jnp.maximum(s.j - 1, 0).astype(dtype))
+        alpha = step_length(s.j)
         noise = 1e-14 * (1.0 + jnp.abs(s.phi0))
         decrease = jnp.isfinite(phi_t) & (phi_t <= s.phi0 + 1e-4 * alpha * s.slope + noise)
         tiny = _safe_inf_norm(s.d) <= 1e-14 * (1.0 + _safe_inf_norm(s.z))

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
-from typing import Callable, ClassVar, Dict, Iterable, Mapping, Optional, Tuple
+from typing import Callable, ClassVar, Dict, FrozenSet, Iterable, Mapping, Optional, Tuple
 
 import jax
 import jax.extend.core as _jcore
@@ -229,6 +229,14 @@ class Chain:
     ({option: (default, allowed values)}) and implement :meth:`parameters`, :meth:`outputs` and
     :meth:`compute` (which receives a dict of float64 arrays with defaults filled in and may call
     ``scene.has(part)`` to decide, at trace time, which parts to build).
+
+    ``compute(scene, p, wanted=None)`` takes the static keyword ``wanted``: ``None`` asks for
+    every output of :meth:`outputs`; a frozenset of output names asks for those only. The chain
+    then returns at least those names (it may return more), with the values of the full
+    evaluation, and leaves out of the trace the expensive computations (root finds, detection
+    series, exact detectability solves) that no wanted output depends on, so that a caller who
+    differentiates a few outputs does not trace, differentiate and lower the rest. Like the
+    scene, ``wanted`` is static structure: decide with :func:`needs` at trace time.
     """
 
     kind: ClassVar[str] = ""
@@ -242,7 +250,8 @@ class Chain:
     def outputs(self, scene: Scene) -> Dict[str, Output]:  # pragma: no cover - abstract
         raise NotImplementedError
 
-    def compute(self, scene: Scene, p: Mapping[str, jnp.ndarray]) -> Evaluation:  # pragma: no cover
+    def compute(self, scene: Scene, p: Mapping[str, jnp.ndarray],
+                wanted: Optional[FrozenSet[str]] = None) -> Evaluation:  # pragma: no cover - abstract
         raise NotImplementedError
 
     # shared helpers
@@ -262,6 +271,12 @@ class Chain:
                 raise DomainError(
                     f"{self.kind} scene: option {key!r} must be one of {list(allowed)}; got {value!r}"
                 )
+
+
+def needs(wanted: Optional[FrozenSet[str]], *names: str) -> bool:
+    """True when a chain must compute something that the outputs ``names`` depend on: ``wanted``
+    is ``None`` (every output) or holds one of ``names`` (see :class:`Chain`)."""
+    return wanted is None or any(n in wanted for n in names)
 
 
 CHAINS: Dict[str, Chain] = {}

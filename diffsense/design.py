@@ -10,13 +10,20 @@
 returning each case's chain evaluation, the requirement outputs, normalised constraint
 residuals (≤ 0 when met) and the objective. The requirement limits are a separate argument
 (``limits``) so that an optimum can be differentiated with respect to them.
+
+The functions the optimiser differentiates (:meth:`DesignModel.residuals`,
+:meth:`DesignModel.objective`) evaluate each case with ``wanted`` = the outputs they read
+(:attr:`DesignModel.requirement_outputs`, :attr:`DesignModel.objective_outputs`), so the chains
+leave out the root finds and detection series nobody asked for (see
+:class:`diffsense.chain.Chain`); the values are those of the full evaluation. Reports
+(:meth:`DesignModel.evaluate_all`) evaluate every output.
 """
 
 from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass
-from typing import Dict, List
+from typing import Dict, FrozenSet, List, Mapping, Optional
 
 import jax
 import jax.numpy as jnp
@@ -40,7 +47,12 @@ class Combination:
 
 
 class DesignModel:
-    """Pure functions of the design for one spec (see the module docstring)."""
+    """Pure functions of the design for one spec (see the module docstring).
+
+    ``requirement_outputs`` and ``objective_outputs`` map each case to the frozenset of its
+    outputs that the requirements (resp. the objective terms) read; a case whose outputs are
+    not read is absent.
+    """
 
     def __init__(self, spec: Spec):
         self.spec = spec
@@ -93,11 +105,34 @@ class DesignModel:
             complete = complete_parameters(scene, sample)
             self.fixed[case] = {k: v for k, v in complete.items()
                                 if k not in self.variable_names and k not in self.combo_params}
+        # outputs read per case (case -> frozenset of output names): by the requirements, by the objective
+        self.requirement_outputs: Dict[str, FrozenSet[str]] = self._outputs_by_case(
+            (r.case, r.output) for r in self.requirements)
+        self.objective_outputs: Dict[str, FrozenSet[str]] = self._outputs_by_case(
+            self._objective_output(name) for name, _ in spec.objective.terms)
         # objective normalisation: its magnitude at the initial design of the first combination
         self._objective_scale = 1.0
         self._evaluate_all = None
         f0 = float(jax.jit(self.raw_objective)(jnp.asarray(self.initial), jnp.asarray(self.combo_table[0])))
         self._objective_scale = max(abs(f0), 1e-300) if np.isfinite(f0) and f0 != 0 else 1.0
+
+    @staticmethod
+    def _outputs_by_case(pairs) -> Dict[str, FrozenSet[str]]:
+        """``{case: frozenset(outputs)}`` from ``(case, output)`` pairs (``None`` pairs skipped)."""
+        out: Dict[str, set] = {}
+        for pair in pairs:
+            if pair is not None:
+                out.setdefault(pair[0], set()).add(pair[1])
+        return {case: frozenset(names) for case, names in out.items()}
+
+    def _objective_output(self, name):
+        """``(case, output)`` when the objective term ``name`` is a chain output, else ``None``."""
+        if name == "cost":
+            return None
+        case, base = name.split(".", 1) if "." in name else (next(iter(self.spec.scenes)), name)
+        if base in self.variable_names or base in self.combo_params or base not in self.spec.outputs[case]:
+            return None
+        return case, base
 
     # --- evaluation --------------------------------------------------------------------------
     def parameters(self, x, combo) -> Dict[str, Dict[str, jnp.ndarray]]:
@@ -115,17 +150,26 @@ class DesignModel:
             out[case] = p
         return out
 
-    def evaluate(self, x, combo) -> Dict[str, Evaluation]:
-        """Each case's chain evaluation at design ``x`` and catalog row ``combo``."""
+    def evaluate(self, x, combo, wanted: Optional[Mapping[str, FrozenSet[str]]] = None) -> Dict[str, Evaluation]:
+        """Each case's chain evaluation at design ``x`` and catalog row ``combo``.
+
+        ``wanted`` (static): ``None`` evaluates every case with every output; a mapping
+        ``{case: frozenset of output names}`` evaluates only the cases it names, each with at
+        least those outputs (the chain's ``wanted``, see :class:`diffsense.chain.Chain`).
+        """
         res = {}
         for case, p in self.parameters(x, combo).items():
+            if wanted is not None and case not in wanted:
+                continue
             scene = self.spec.scenes[case]
-            res[case] = chain_for(scene).compute(scene, p)
+            chain = chain_for(scene)
+            res[case] = chain.compute(scene, p) if wanted is None else chain.compute(scene, p, wanted=wanted[case])
         return res
 
     def requirement_values(self, x, combo, evaluations=None) -> jnp.ndarray:
-        """The requirement outputs (their own units), in spec order."""
-        ev = self.evaluate(x, combo) if evaluations is None else evaluations
+        """The requirement outputs (their own units), in spec order; without ``evaluations`` the
+        cases are evaluated for :attr:`requirement_outputs` only."""
+        ev = self.evaluate(x, combo, self.requirement_outputs) if evaluations is None else evaluations
         return jnp.stack([jnp.asarray(ev[r.case].values[r.output], dtype=float) for r in self.requirements])
 
     def residuals(self, x, combo, limits) -> jnp.ndarray:
@@ -134,7 +178,8 @@ class DesignModel:
         return self.sign * (values - limits) / self.scales
 
     def raw_objective(self, x, combo, evaluations=None) -> jnp.ndarray:
-        """Objective in the spec's own terms (weighted sum; maximisation negated)."""
+        """Objective in the spec's own terms (weighted sum; maximisation negated); without
+        ``evaluations`` the cases are evaluated for :attr:`objective_outputs` only."""
         total = jnp.asarray(0.0)
         ev = None
         first = next(iter(self.spec.scenes))
@@ -149,7 +194,7 @@ class DesignModel:
                 val = combo[self.combo_params.index(base)]
             elif base in self.spec.outputs[case]:
                 if ev is None:
-                    ev = self.evaluate(x, combo) if evaluations is None else evaluations
+                    ev = self.evaluate(x, combo, self.objective_outputs) if evaluations is None else evaluations
                 val = ev[case].values[base]
             else:
                 val = self.fixed[case][base]

@@ -47,7 +47,7 @@ from jax.scipy.special import ndtr, ndtri
 
 from diffsense import noise
 from diffsense._checks import check_choice, check_range, is_concrete
-from diffsense.chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, register, scene_part
+from diffsense.chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, needs, register, scene_part
 from diffsense.constants import BOLTZMANN_J_K, PLANCK_J_S, SPEED_OF_LIGHT_M_S
 from diffsense.propagation import laser_extinction_db_per_km
 from diffsense.rootfind import decreasing_root_log
@@ -475,7 +475,10 @@ class InfraredChain(Chain):
         ]
         return {o.name: o for o in outs}
 
-    def compute(self, scene, p):
+    def compute(self, scene, p, wanted=None):
+        """The budget at ``range_m`` and the outputs; with ``wanted`` (a frozenset of output names)
+        the range root find is traced only when ``detection_range_m`` is wanted (see
+        :class:`diffsense.chain.Chain`)."""
         where = "infrared chain"
         if is_concrete(p["pd"]) and is_concrete(p["pfa"]):
             check_range("pd - pfa", np.asarray(p["pd"]) - np.asarray(p["pfa"]), 0.0, None, lo_open=True, where=where)
@@ -549,7 +552,6 @@ class InfraredChain(Chain):
         def residual(r):
             return sum(v for _, v in snr_terms(r)) - required_db
 
-        root = decreasing_root_log(residual, *_DETECTION_BRACKET_M)
         transmission = 10.0 ** (-ext_db_per_km * p["range_m"] / 1e4)
         values = {
             "contrast_intensity_w_sr": j_w,
@@ -563,6 +565,7 @@ class InfraredChain(Chain):
             "required_snr_db": required_db,
             "snr_margin_db": snr_db - required_db,
             "pd": ndtr(10.0 ** (snr_db / 10.0) + ndtri(p["pfa"])),
-            "detection_range_m": root.root,
         }
+        if needs(wanted, "detection_range_m"):
+            values["detection_range_m"] = decreasing_root_log(residual, *_DETECTION_BRACKET_M).root
         return Evaluation(budget, values)

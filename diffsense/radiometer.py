@@ -54,6 +54,7 @@ from diffsense.chain import (
     Output,
     Param,
     collect,
+    needs,
     register,
     scene_part,
 )
@@ -597,7 +598,10 @@ class RadiometerChain(Chain):
             delta_t=delta_t, antenna_contrast=ta_target - ta_ground,
         )
 
-    def compute(self, scene, p):
+    def compute(self, scene, p, wanted=None):
+        """The budget at ``range_m`` and the outputs; with ``wanted`` (a frozenset of output names)
+        the range root find is traced only when ``detection_range_m`` is wanted (see
+        :class:`diffsense.chain.Chain`)."""
         if is_concrete(p["pd"]) and is_concrete(p["pfa"]):
             check_range("pd - pfa", np.asarray(p["pd"]) - np.asarray(p["pfa"]), 0.0, None, lo_open=True,
                         where="radiometer chain")
@@ -624,7 +628,6 @@ class RadiometerChain(Chain):
             # and the path is clear (flat SNR), so the implicit derivative of the root stays finite
             return _db(d) - required_db - _ROOT_SLOPE_GUARD_DB * jnp.log(r)
 
-        root = decreasing_root_log(residual, *_DETECTION_BRACKET_M)
         beamwidth = jnp.sqrt(4.0 * math.log(2.0) * q["omega_m"] / math.pi)
         values = {
             "sky_temperature_k": t_sky,
@@ -645,7 +648,8 @@ class RadiometerChain(Chain):
             "required_snr_db": required_db,
             "snr_margin_db": snr_db - required_db,
             "pd": ndtr(deflection + ndtri(p["pfa"])),
-            "detection_range_m": root.root,
         }
+        if needs(wanted, "detection_range_m"):
+            values["detection_range_m"] = decreasing_root_log(residual, *_DETECTION_BRACKET_M).root
         return Evaluation(budget, values)
 

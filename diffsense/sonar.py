@@ -33,7 +33,7 @@ from jax.scipy.special import ndtr, ndtri
 
 from . import antennas, clutter, detection, noise, targets
 from ._checks import DomainError, check_range, is_concrete
-from .chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, register, scene_part
+from .chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, needs, register, scene_part
 from .propagation import acoustic
 from .rootfind import decreasing_root_log
 
@@ -515,15 +515,19 @@ def pulse_compression_gain_db(bandwidth_hz, pulse_width_s):
 
 
 @functools.partial(jax.jit, static_argnames=("swerling",))
-def _active_detection(snr_db, pd, pfa, swerling):
-    """(required SNR, Pd at snr_db) for one envelope-detected pulse; compiled once per Swerling case.
+def _active_required_snr_db(pd, pfa, swerling):
+    """Required SNR (dB) of one envelope-detected pulse; compiled once per Swerling case."""
+    return detection_threshold_db(pd, pfa, swerling)
+
+
+@functools.partial(jax.jit, static_argnames=("swerling",))
+def _active_pd(snr_db, pfa, swerling):
+    """Pd at ``snr_db`` for one envelope-detected pulse; compiled once per Swerling case.
 
     Pd saturates outside [-50, 80] dB (the domain of :func:`diffsense.detection.pd`), where it
     equals Pfa or 1 to within 1e-10; the clip there gives it zero slope.
     """
-    required = detection_threshold_db(pd, pfa, swerling)
-    pd_at = detection.pd(jnp.clip(snr_db, -50.0, 80.0), pfa, 1, swerling)
-    return required, pd_at
+    return detection.pd(jnp.clip(snr_db, -50.0, 80.0), pfa, 1, swerling)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -971,14 +975,20 @@ class SonarChain(Chain):
             b.add("reverberation_level", -reverb)
         return b.build(), extra
 
-    def compute(self, scene, p) -> Evaluation:
+    def compute(self, scene, p, wanted=None) -> Evaluation:
+        """The budget at ``range_m`` and the outputs; with ``wanted`` (a frozenset of output names)
+        the active detection threshold solve, the Pd series and the range root find are traced
+        only when a wanted output needs them (see :class:`diffsense.chain.Chain`)."""
         active = self.option(scene, "mode") == "active"
         env = self._environment(scene, p)
         budget, extra = self._link(scene, p, env, p["range_m"])
         snr = budget.total
         if active:
             # pd and pfa were checked against their domains (pd >= 0.1 > 0.05 >= pfa) by complete_parameters
-            required, pd_at = _active_detection(snr, p["pd"], p["pfa"], self.option(scene, "swerling"))
+            swerling = self.option(scene, "swerling")
+            need_required = needs(wanted, "required_snr_db", "signal_excess_db", "snr_margin_db", "detection_range_m")
+            required = _active_required_snr_db(p["pd"], p["pfa"], swerling) if need_required else None
+            pd_at = _active_pd(snr, p["pfa"], swerling) if needs(wanted, "pd") else None
         else:
             d_req = detection_index(p["pd"], p["pfa"])
             bt = p["bandwidth_hz"] * p["integration_time_s"]
@@ -990,7 +1000,6 @@ class SonarChain(Chain):
         def residual(r):
             return self._link(scene, p, env, r)[0].total - required
 
-        root = decreasing_root_log(residual, *_RANGE_BRACKET_M)
         m = p["receive_sensitivity_db"]
         values = {
             "source_level_db": env["sl"],
@@ -1000,15 +1009,18 @@ class SonarChain(Chain):
             "absorption_db_per_m": env["alpha"],
             "transmission_loss_db": extra["tl"],
             "snr_db": snr,
-            "required_snr_db": required,
-            "signal_excess_db": snr - required,
-            "snr_margin_db": snr - required,
-            "pd": pd_at,
-            "detection_range_m": root.root,
+        }
+        if required is not None:
+            values.update(required_snr_db=required, signal_excess_db=snr - required, snr_margin_db=snr - required)
+        if pd_at is not None:
+            values["pd"] = pd_at
+        if needs(wanted, "detection_range_m"):
+            values["detection_range_m"] = decreasing_root_log(residual, *_RANGE_BRACKET_M).root
+        values.update({
             "bandwidth_hz": env["bandwidth"],
             # noise.hydrophone_voltage_v, written out: the level may leave its checked domain at extreme ranges
             "signal_voltage_v": 10.0 ** ((extra["signal"] + m) / 20.0),
-        }
+        })
         if extra["noise"] is not None:
             values["noise_level_db"] = extra["noise"]
             values["noise_voltage_v"] = 10.0 ** ((extra["noise"] + m) / 20.0)

@@ -24,7 +24,7 @@ import numpy as np
 
 from . import antennas, detection, noise, targets
 from ._checks import DomainError, check_range
-from .chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, register, scene_part
+from .chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, needs, register, scene_part
 from .propagation import acoustic
 from .rootfind import decreasing_root_log
 
@@ -185,10 +185,16 @@ def ambient_noise_voltage_v(spectrum_level_db, bandwidth_hz, sensitivity_db_v_pe
 
 
 @functools.partial(jax.jit, static_argnames=("swerling",))
-def _detection(snr_db, pd, pfa, swerling):
-    required = detection.required_snr_db(pd, pfa, 1, swerling)
-    pd_at = detection.pd(jnp.clip(snr_db, -50.0, 80.0), pfa, 1, swerling)
-    return required, pd_at
+def _required_snr_db(pd, pfa, swerling):
+    """Required SNR (dB) of one envelope-detected pulse; compiled once per Swerling case."""
+    return detection.required_snr_db(pd, pfa, 1, swerling)
+
+
+@functools.partial(jax.jit, static_argnames=("swerling",))
+def _pd(snr_db, pfa, swerling):
+    """Pd at ``snr_db`` (clipped to the domain [-50, 80] dB of :func:`diffsense.detection.pd`)
+    for one envelope-detected pulse; compiled once per Swerling case."""
+    return detection.pd(jnp.clip(snr_db, -50.0, 80.0), pfa, 1, swerling)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -365,7 +371,10 @@ class UltrasonicChain(Chain):
             b.add("noise_voltage", -_db20(env["noise_v"]))
         return b.build(), {"tl": out_tl, "spl": spl, "dbv": level_dbv}
 
-    def compute(self, scene, p) -> Evaluation:
+    def compute(self, scene, p, wanted=None) -> Evaluation:
+        """The budget at ``range_m`` and the outputs; with ``wanted`` (a frozenset of output names)
+        the required-SNR solve, the Pd series and the range root find are traced only when a
+        wanted output needs them (see :class:`diffsense.chain.Chain`)."""
         env = self._environment(scene, p)
         budget, extra = self._link(scene, p, env, p["range_m"])
         echo = self.option(scene, "mode") == "pulse_echo"
@@ -385,18 +394,16 @@ class UltrasonicChain(Chain):
             values["range_resolution_m"] = env["c"] * p["pulse_width_s"] / 2.0
         if env["noise_v"] is not None:
             snr = budget.total
-            required, pd_at = _detection(snr, p["pd"], p["pfa"], self.option(scene, "swerling"))
+            swerling = self.option(scene, "swerling")
+            values.update(noise_voltage_v=env["noise_v"], snr_db=snr)
+            if needs(wanted, "required_snr_db", "snr_margin_db", "detection_range_m"):
+                required = _required_snr_db(p["pd"], p["pfa"], swerling)
+                values.update(required_snr_db=required, snr_margin_db=snr - required)
+            if needs(wanted, "pd"):
+                values["pd"] = _pd(snr, p["pfa"], swerling)
+            if needs(wanted, "detection_range_m"):
+                def residual(r):
+                    return self._link(scene, p, env, r)[0].total - required
 
-            def residual(r):
-                return self._link(scene, p, env, r)[0].total - required
-
-            root = decreasing_root_log(residual, *_RANGE_BRACKET_M)
-            values.update(
-                noise_voltage_v=env["noise_v"],
-                snr_db=snr,
-                required_snr_db=required,
-                snr_margin_db=snr - required,
-                pd=pd_at,
-                detection_range_m=root.root,
-            )
+                values["detection_range_m"] = decreasing_root_log(residual, *_RANGE_BRACKET_M).root
         return Evaluation(budget, values)

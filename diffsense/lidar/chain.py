@@ -57,7 +57,7 @@ import jax.numpy as jnp
 from diffsense import detection
 from diffsense._checks import DomainError
 from diffsense.antennas import circular_aperture_area_m2
-from diffsense.chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, register, scene_part
+from diffsense.chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, needs, register, scene_part
 from diffsense.constants import ELEMENTARY_CHARGE_C, PLANCK_J_S, SPEED_OF_LIGHT_M_S
 from diffsense.noise import apd_excess_noise_factor
 from diffsense.propagation import dust_laser_extinction_db_per_km, dust_mass_loading_g_m3, laser_extinction_db_per_km
@@ -420,7 +420,10 @@ class LidarChain(Chain):
             return threshold_detection_pd(jnp.clip(snr_db, -300.0, 300.0), p["pfa"], p["n_pulses"], noise_ratio)
         return detection.pd(jnp.clip(snr_db, *_SQUARE_LAW_SNR_DB), p["pfa"], p["n_pulses"], swerling)
 
-    def compute(self, scene, p):
+    def compute(self, scene, p, wanted=None):
+        """The budget at ``range_m`` and the outputs; with ``wanted`` (a frozenset of output names)
+        the required-SNR solve, the Pd series and the range root find are traced only when a
+        wanted output needs them (see :class:`diffsense.chain.Chain`)."""
         detector, target, stats, _ = self.resolved(scene)
         st = self._setup(scene, p)
         link = self._at_range(scene, p, st, p["range_m"])
@@ -429,19 +432,6 @@ class LidarChain(Chain):
             builder.add(name, value)
         budget = builder.build()
         snr_db = budget.total
-        required = self._required(scene, p, link["noise_ratio"])
-
-        if stats == "square_law":
-            def margin(r):
-                return self._at_range(scene, p, st, r)["snr_db"] - required
-        else:
-            def margin(r):
-                lk = self._at_range(scene, p, st, r)
-                return lk["snr_db"] - self._required(scene, p, lk["noise_ratio"])
-
-        lo, hi = DETECTION_RANGE_BRACKET_M
-        shape = jnp.shape(snr_db)
-        root = decreasing_root_log(margin, jnp.full(shape, lo), jnp.full(shape, hi))
 
         values = {
             "received_power_w": link["pr_w"],
@@ -450,12 +440,28 @@ class LidarChain(Chain):
                                       * p["wavelength_m"] / _HC),
             "nep_w": link["nep_w"],
             "snr_db": snr_db,
-            "required_snr_db": required,
-            "snr_margin_db": snr_db - required,
-            "pd": self._pd(scene, p, snr_db, link["noise_ratio"]),
-            "detection_range_m": root.root,
-            "range_resolution_m": range_resolution_pulse_m(p["pulse_width_s"]),
         }
+        square_law = stats == "square_law"
+        # the square-law range root find reuses the requirement at range_m (it does not vary with range)
+        if needs(wanted, "required_snr_db", "snr_margin_db") or (square_law and needs(wanted, "detection_range_m")):
+            required = self._required(scene, p, link["noise_ratio"])
+            values["required_snr_db"] = required
+            values["snr_margin_db"] = snr_db - required
+        if needs(wanted, "pd"):
+            values["pd"] = self._pd(scene, p, snr_db, link["noise_ratio"])
+        if needs(wanted, "detection_range_m"):
+            if square_law:
+                def margin(r):
+                    return self._at_range(scene, p, st, r)["snr_db"] - required
+            else:
+                def margin(r):
+                    lk = self._at_range(scene, p, st, r)
+                    return lk["snr_db"] - self._required(scene, p, lk["noise_ratio"])
+
+            lo, hi = DETECTION_RANGE_BRACKET_M
+            shape = jnp.shape(snr_db)
+            values["detection_range_m"] = decreasing_root_log(margin, jnp.full(shape, lo), jnp.full(shape, hi)).root
+        values["range_resolution_m"] = range_resolution_pulse_m(p["pulse_width_s"])
         if target == "point":
             values["crossover_range_m"] = crossover_range_m(p["target_area_m2"] * st["cos_i"],
                                                             p["beam_divergence_rad"])

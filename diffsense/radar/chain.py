@@ -80,7 +80,7 @@ from jax.scipy.special import logsumexp
 from .. import antennas as _ant
 from .. import detection as _det
 from .._checks import DomainError, check_range, is_concrete
-from ..chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, register, scene_part
+from ..chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, needs, register, scene_part
 from ..constants import BOLTZMANN_J_K, REFERENCE_TEMPERATURE_K, SPEED_OF_LIGHT_M_S
 from ..detection.matched_filter import FILTERS
 from ..propagation.cloud import cloud_attenuation_db_per_km
@@ -99,6 +99,9 @@ _DB = 10.0 / math.log(10.0)
 _LN10_10 = math.log(10.0) / 10.0
 _C = SPEED_OF_LIGHT_M_S
 _PD_SNR_DB = (-50.0, 80.0)  # domain of diffsense.detection.pd; Pd is 0/1 to float64 outside
+#: outputs that depend on the required per-pulse SNR (an exact detectability solve)
+_USES_REQUIRED_SNR = ("required_snr_db", "snr_margin_db", "faded_snr_margin_db", "detection_margin_db",
+                      "detection_range_m", "detection_range_found", "burn_through_range_m")
 
 PARTS = {
     "gas": "atmospheric gases on the whole path (ITU-R P.676-12, or a given specific attenuation)",
@@ -478,7 +481,10 @@ class RadarChain(Chain):
         return {out.name: out for out in outs}
 
     # ----- evaluation -----
-    def compute(self, scene, p):
+    def compute(self, scene, p, wanted=None):
+        """The budget at ``range_m`` and the outputs; with ``wanted`` (a frozenset of output names)
+        the exact detectability solves, Pd series and range root finds that no wanted output
+        needs are not traced (see :class:`diffsense.chain.Chain`)."""
         o = lambda name: self.option(scene, name)
         swerling = o("swerling")
         lam = _C / p["freq_hz"]
@@ -616,7 +622,7 @@ class RadarChain(Chain):
             return s - _DB * jnp.logaddexp(noise_dbw / _DB, j / _DB)
 
         # detectability
-        req, gain, req1 = self._required_snr(scene, p)
+        req, gain, req1 = self._required_snr(scene, p, wanted)
         req_scr = p["required_scr_db"] if clutter_present else None
 
         def margin_db(r):
@@ -651,18 +657,20 @@ class RadarChain(Chain):
         if scene.has("multipath"):
             lo = jnp.maximum(lo, 1.0 + jnp.abs(p["antenna_height_m"] - p["target_height_m"]))
             hi = jnp.minimum(hi, 0.99 * radar_horizon_m(p["antenna_height_m"], p["target_height_m"]))
-        root = decreasing_root_log(margin_db, lo, hi)
 
-        v = {
-            "snr_db": snr,
-            "received_power_dbm": s0 + 30.0,
-            "noise_power_dbm": noise_dbw + 30.0,
-            "required_snr_db": req,
-            "snr_margin_db": snr - req,
-            "faded_snr_margin_db": snr - p["rcs_fade_db"] - req,
-            "detection_margin_db": margin_db(r0),
-            "detection_range_m": root.root,
-            "detection_range_found": jnp.where(root.bracketed, 1.0, 0.0),
+        v = {"snr_db": snr, "received_power_dbm": s0 + 30.0, "noise_power_dbm": noise_dbw + 30.0}
+        if req is not None:
+            v.update({
+                "required_snr_db": req,
+                "snr_margin_db": snr - req,
+                "faded_snr_margin_db": snr - p["rcs_fade_db"] - req,
+                "detection_margin_db": margin_db(r0),
+            })
+        if needs(wanted, "detection_range_m", "detection_range_found"):
+            root = decreasing_root_log(margin_db, lo, hi)
+            v["detection_range_m"] = root.root
+            v["detection_range_found"] = jnp.where(root.bracketed, 1.0, 0.0)
+        v.update({
             "wavelength_m": lam,
             "gain_db": gain_db,
             "beamwidth_deg": jnp.rad2deg(bw_az),
@@ -674,17 +682,19 @@ class RadarChain(Chain):
             "average_power_w": p["peak_power_w"] * tau * p["prf_hz"],
             "if_gain_db": eq.if_gain_required_db(s0 + 30.0, p["receive_loss_db"], p["mixer_loss_db"], p["rcs_fade_db"],
                                                  p["tangential_sensitivity_dbm"], p["tss_margin_db"]),
-        }
+        })
         if o("detectability") != "given":
-            s_for_pd = sjnr_db(r0, s0)
-            n = p["n_pulses"]
-            if o("detectability") == "exact" and o("integration") == "noncoherent":
-                v["pd"] = _det.pd(jnp.clip(s_for_pd, *_PD_SNR_DB), p["pfa"], n, swerling)
-            else:
-                v["pd"] = _det.pd(jnp.clip(s_for_pd + gain, *_PD_SNR_DB), p["pfa"], jnp.ones_like(n), swerling)
-            v["integration_gain_db"] = gain
-            v["integrated_snr_db"] = snr + gain
-            if o("detectability") == "book" and o("integration") == "noncoherent":
+            if needs(wanted, "pd"):
+                s_for_pd = sjnr_db(r0, s0)
+                n = p["n_pulses"]
+                if o("detectability") == "exact" and o("integration") == "noncoherent":
+                    v["pd"] = _det.pd(jnp.clip(s_for_pd, *_PD_SNR_DB), p["pfa"], n, swerling)
+                else:
+                    v["pd"] = _det.pd(jnp.clip(s_for_pd + gain, *_PD_SNR_DB), p["pfa"], jnp.ones_like(n), swerling)
+            if gain is not None:
+                v["integration_gain_db"] = gain
+                v["integrated_snr_db"] = snr + gain
+            if o("detectability") == "book" and o("integration") == "noncoherent" and req1 is not None:
                 needed = jnp.maximum(req1 - (snr - p["rcs_fade_db"]), 0.0)
                 extra = _det.BOOK_SDLA_EXTRA_PULSES if o("detector") == "linear" else 0.0
                 v["pulses_needed"] = 10.0 ** (needed / 8.0) + extra
@@ -697,7 +707,7 @@ class RadarChain(Chain):
         if scene.has("jammer"):
             v["sjr_db"] = s0 - jamming_dbw(r0)
             v["sjnr_db"] = sjnr_db(r0, s0)
-            if o("jammer_type") == "self_screening":
+            if o("jammer_type") == "self_screening" and needs(wanted, "burn_through_range_m"):
                 bt_root = decreasing_root_log(lambda r: signal_dbw(r)[0] - jamming_dbw(r) - req, lo, hi)
                 v["burn_through_range_m"] = bt_root.root
         if scene.has("jammer") or clutter_present:
@@ -743,21 +753,32 @@ class RadarChain(Chain):
             "servo_resonance_ratio": bn / p["positioner_resonance_hz"],
         }
 
-    def _required_snr(self, scene, p):
-        """(required per-pulse SNR, integration gain, single-pulse requirement) in dB."""
+    def _required_snr(self, scene, p, wanted=None):
+        """(required per-pulse SNR, integration gain, single-pulse requirement) in dB.
+
+        Each entry is None when no output in ``wanted`` needs it (``wanted`` None: every output).
+        The required SNR serves :data:`_USES_REQUIRED_SNR`; the gain ``integration_gain_db``,
+        ``integrated_snr_db`` and, outside exact noncoherent detectability, ``pd``; the
+        single-pulse requirement ``pulses_needed``, and it enters the required SNR (book and
+        coherent: req1 − gain) or the gain (exact noncoherent: req1 − req_N).
+        """
         o = lambda name: self.option(scene, name)
         if o("detectability") == "given":
             return p["detectability_db"], None, None
         swerling = o("swerling")
         n = p["n_pulses"]
-        one = jnp.ones_like(n)
-        req1 = _det.required_snr_db(p["pd"], p["pfa"], one, swerling)
-        if o("integration") == "coherent":
-            gain = _DB * jnp.log(n)
-        elif o("detectability") == "book":
-            n_eff = n - _det.BOOK_SDLA_EXTRA_PULSES if o("detector") == "linear" else n
-            gain = _det.book_integration_gain_db(jnp.maximum(n_eff, 1.0))
-        else:
-            reqn = _det.required_snr_db(p["pd"], p["pfa"], n, swerling)
-            return reqn, req1 - reqn, req1
-        return req1 - gain, gain, req1
+        need_req = needs(wanted, *_USES_REQUIRED_SNR)
+        need_gain = needs(wanted, "integration_gain_db", "integrated_snr_db")
+        single = lambda: _det.required_snr_db(p["pd"], p["pfa"], jnp.ones_like(n), swerling)
+        if o("integration") == "coherent" or o("detectability") == "book":
+            if o("integration") == "coherent":
+                gain = _DB * jnp.log(n)
+            else:
+                n_eff = n - _det.BOOK_SDLA_EXTRA_PULSES if o("detector") == "linear" else n
+                gain = _det.book_integration_gain_db(jnp.maximum(n_eff, 1.0))
+            req1 = single() if need_req or needs(wanted, "pulses_needed") else None
+            return (req1 - gain if need_req else None), gain, req1
+        # exact, noncoherent: the requirement for N pulses is solved directly
+        reqn = _det.required_snr_db(p["pd"], p["pfa"], n, swerling) if need_req or need_gain else None
+        req1 = single() if need_gain else None
+        return reqn, (req1 - reqn if need_gain else None), req1

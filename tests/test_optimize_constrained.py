@@ -16,7 +16,7 @@ import pytest
 
 import diffsense  # noqa: F401  (float64)
 from diffsense._checks import DomainError
-from diffsense.optimize import Problem, SolverOptions, make_solver
+from diffsense.optimize import Problem, SolverOptions, make_solver, solve
 from diffsense.optimize import reference_problems as rp
 
 from _reference_checks import HS_WITH_PUBLISHED_OPTIMUM, assert_hs071_ipopt_multipliers, assert_published_optimum
@@ -30,19 +30,54 @@ def _ref(name):
 
 
 @functools.lru_cache(maxsize=None)
-def _solver(name, inner="bfgs"):
+def _solver(name, inner="fused"):
     return make_solver(_ref(name).problem, SolverOptions(inner=inner), compile="fast")
 
 
-def _run(name, inner="bfgs", x0=None):
+def _run(name, inner="fused", x0=None):
     P = _ref(name)
     return _solver(name, inner)(jnp.asarray(P.x0 if x0 is None else x0), P.theta)
 
 
 # published digits: f* to 1e-7 relative (HS quotes 7-10 significant digits), x* to 1e-6
+@pytest.mark.parametrize("inner", ["fused", "bfgs"])
 @pytest.mark.parametrize("name", HS_WITH_PUBLISHED_OPTIMUM)
-def test_hock_schittkowski_published_optimum(name):
-    assert_published_optimum(_ref(name), _run(name), x_atol=1e-6)
+def test_hock_schittkowski_published_optimum(name, inner):
+    assert_published_optimum(_ref(name), _run(name, inner), x_atol=1e-6)
+
+
+def test_fused_loop_evaluates_the_problem_at_one_site():
+    # the fused loop traces the objective once (its one linearisation per trip); the nested
+    # inner solver adds its own evaluation of the augmented Lagrangian
+    traced = []
+
+    def f(x, _):
+        traced.append(1)
+        return (x[0] - 1.0) ** 2 + x[1] ** 2
+
+    prob = Problem(f, -5.0 * np.ones(2), 5.0 * np.ones(2), inequality=lambda x, _: jnp.array([1.0 - x[0] - x[1]]))
+    counts = {}
+    for inner in ("fused", "bfgs"):
+        traced.clear()
+        jax.jit(lambda x0: solve(prob, x0, None, SolverOptions(inner=inner, polish=False))).lower(jnp.zeros(2))
+        counts[inner] = len(traced)
+    assert counts == {"fused": 1, "bfgs": 2}
+    # and it solves the problem: min (x1-1)^2 + x2^2 s.t. x1 + x2 >= 1 is at (1, 0), unconstrained
+    r = make_solver(prob, SolverOptions(polish=False), compile="fast")(jnp.zeros(2))
+    assert bool(r.converged)
+    np.testing.assert_allclose(np.asarray(r.x), [1.0, 0.0], atol=1e-7)
+
+
+def test_start_at_the_objectives_stationary_point_converges():
+    # min x^2 + 1 s.t. x >= 1 from x0 = 0, where grad f = 0: the objective's scale comes from
+    # |f(x0)| (a gradient-only rule scaled f by 1e8 and the solve stalled). Closed form: x* = 1,
+    # f* = 2, lambda = f'(1) = 2.
+    prob = Problem(lambda x, _: x[0] ** 2 + 1.0, -10.0, 10.0, inequality=lambda x, _: jnp.array([1.0 - x[0]]))
+    r = make_solver(prob, OPTS, compile="fast")(jnp.zeros(1))
+    assert bool(r.converged) and bool(r.feasible)
+    np.testing.assert_allclose(float(r.x[0]), 1.0, rtol=1e-12)
+    np.testing.assert_allclose(float(r.f), 2.0, rtol=1e-12)
+    np.testing.assert_allclose(float(r.lam[0]), 2.0, rtol=1e-8)
 
 
 def test_hs071_multipliers_match_ipopt_example():

@@ -88,6 +88,7 @@ def test_catalog_picks_best_feasible_option_closed_form():
     fk = options[:, 0] + (xk - options[:, 1]) ** 2
     feas = options[:, 2] <= 10.0
     np.testing.assert_array_equal(np.asarray(r.feasible), feas)
+    assert np.all(np.asarray(r.results.converged)[feas])
     np.testing.assert_allclose(np.asarray(r.results.f)[feas], fk[feas], rtol=1e-10)
     expected = int(np.argmin(np.where(feas, fk, np.inf)))
     assert int(r.index) == expected

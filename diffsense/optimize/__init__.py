@@ -5,8 +5,10 @@
 * :mod:`.problem` — :class:`Problem` (functions, bounds, variable scaling, log scaling,
   integer flags).
 * :mod:`.constrained` — :func:`solve`: PHR augmented Lagrangian over a bounded inner solve
-  (optimistix BFGS on a bounded reparameterisation, or jaxopt L-BFGS-B), active-set Newton
-  polish, least-infeasibility restoration; :func:`make_solver` for a jitted solver.
+  (BFGS on a bounded reparameterisation run inside the outer loop by :mod:`.al_fused`, one
+  evaluation of the problem per trip; or nested: optimistix BFGS, jaxopt L-BFGS-B),
+  active-set Newton polish, least-infeasibility restoration; :func:`make_solver` for a jitted
+  solver.
 * :mod:`.sqp` — ``SolverOptions(method="sqp")``: SQP with damped BFGS, one linearisation per
   loop trip, an ℓ1 merit line search with second-order correction; its subproblems by
   :mod:`.active_set` (Goldfarb–Idnani dual active-set QP) and, when the linearised constraints

@@ -34,8 +34,10 @@ Why this design:
   superlinearly, and z lands on the bound to rounding. The price: a variable that sits on a
   bound while the gradient points into the box is also at a stationary point in y, so each
   subproblem starts from z with such variables pulled off their bounds (by 1e-6 of the
-  half-range, 1e-12 for a one-sided bound), and a subproblem can need more iterations than an
-  active-set method when the active bounds change. The default, ``inner="fused"``
+  half-range, 1e-12 for a one-sided bound; the nested solvers pull every variable off, the
+  fused one only those the subproblem's gradient does not hold on their bound), and a
+  subproblem can need more iterations than an active-set method when the active bounds
+  change. The default, ``inner="fused"``
   (:mod:`.al_fused`), runs its own BFGS with a weak-Wolfe line search inside the outer loop,
   one evaluation of the problem per trip; ``inner="bfgs"`` nests optimistix's BFGS (its
   line search backtracks on Armijo's condition, and it stops on small changes of y and of
@@ -69,9 +71,9 @@ Why this design:
 Scaling of the functions (``f_scale="auto"``): s_f = 1/clip(max(‖∇_z f(z₀)‖∞, 0.01|f(z₀)|), 1e-8,
 1e8) (s_f = 1 when both vanish: a start at a stationary point of f with f = 0 tells nothing of
 its scale), and per constraint s_gᵢ = 1/clip(max(‖∇_z gᵢ(z₀)‖∞, 0.01|gᵢ(z₀)|), 1e-8, 1e8)
-(likewise h), so a scaled constraint value is roughly a distance in scaled variables. ``tol`` and ``feas_tol``
-apply to these scaled quantities; the physical g, h are returned as well. The scales are
-held constant (no derivative flows through them).
+(likewise h), so a scaled constraint value is roughly a distance in scaled variables.
+``tol`` and ``feas_tol`` apply to these scaled quantities; the physical g, h are returned as
+well. The scales are held constant (no derivative flows through them).
 
 Evaluation sites. Each place where the solver evaluates the problem functions is a copy of the
 model in the compiled program, and on design models each copy costs seconds of compilation.

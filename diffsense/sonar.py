@@ -23,10 +23,8 @@ levels are dB re 1 µPa²/Hz; target and scattering strengths dB re 1 m (1 m², 
 
 from __future__ import annotations
 
-import functools
 from typing import Dict
 
-import jax
 import jax.numpy as jnp
 import numpy as np
 from jax.scipy.special import ndtr, ndtri
@@ -34,6 +32,7 @@ from jax.scipy.special import ndtr, ndtri
 from . import antennas, clutter, detection, noise, targets
 from ._checks import DomainError, check_range, is_concrete
 from .chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, needs, register, scene_part
+from .detection.single_pulse import single_pulse_pd, single_pulse_required_snr_db
 from .propagation import acoustic
 from .rootfind import decreasing_root_log
 
@@ -514,22 +513,6 @@ def pulse_compression_gain_db(bandwidth_hz, pulse_width_s):
     return _db10(jnp.asarray(bandwidth_hz) * jnp.asarray(pulse_width_s))
 
 
-@functools.partial(jax.jit, static_argnames=("swerling",))
-def _active_required_snr_db(pd, pfa, swerling):
-    """Required SNR (dB) of one envelope-detected pulse; compiled once per Swerling case."""
-    return detection_threshold_db(pd, pfa, swerling)
-
-
-@functools.partial(jax.jit, static_argnames=("swerling",))
-def _active_pd(snr_db, pfa, swerling):
-    """Pd at ``snr_db`` for one envelope-detected pulse; compiled once per Swerling case.
-
-    Pd saturates outside [-50, 80] dB (the domain of :func:`diffsense.detection.pd`), where it
-    equals Pfa or 1 to within 1e-10; the clip there gives it zero slope.
-    """
-    return detection.pd(jnp.clip(snr_db, -50.0, 80.0), pfa, 1, swerling)
-
-
 # ---------------------------------------------------------------------------------------------
 # Scene parts
 # ---------------------------------------------------------------------------------------------
@@ -987,8 +970,8 @@ class SonarChain(Chain):
             # pd and pfa were checked against their domains (pd >= 0.1 > 0.05 >= pfa) by complete_parameters
             swerling = self.option(scene, "swerling")
             need_required = needs(wanted, "required_snr_db", "signal_excess_db", "snr_margin_db", "detection_range_m")
-            required = _active_required_snr_db(p["pd"], p["pfa"], swerling) if need_required else None
-            pd_at = _active_pd(snr, p["pfa"], swerling) if needs(wanted, "pd") else None
+            required = single_pulse_required_snr_db(p["pd"], p["pfa"], swerling) if need_required else None
+            pd_at = single_pulse_pd(snr, p["pfa"], swerling) if needs(wanted, "pd") else None
         else:
             d_req = detection_index(p["pd"], p["pfa"])
             bt = p["bandwidth_hz"] * p["integration_time_s"]

@@ -15,16 +15,15 @@ Sources
 
 from __future__ import annotations
 
-import functools
 from typing import Dict
 
-import jax
 import jax.numpy as jnp
 import numpy as np
 
-from . import antennas, detection, noise, targets
+from . import antennas, noise, targets
 from ._checks import DomainError, check_range
 from .chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, needs, register, scene_part
+from .detection.single_pulse import single_pulse_pd, single_pulse_required_snr_db
 from .propagation import acoustic
 from .rootfind import decreasing_root_log
 
@@ -182,19 +181,6 @@ def ambient_noise_voltage_v(spectrum_level_db, bandwidth_hz, sensitivity_db_v_pe
     """Acoustic background noise in the band at the receiver output (V)."""
     band_spl = spectrum_level_db + (10.0 / _LN10) * jnp.log(bandwidth_hz)
     return 10.0 ** ((band_spl + sensitivity_db_v_per_ubar + _SPL_TO_MICROBAR_DB) / 20.0)
-
-
-@functools.partial(jax.jit, static_argnames=("swerling",))
-def _required_snr_db(pd, pfa, swerling):
-    """Required SNR (dB) of one envelope-detected pulse; compiled once per Swerling case."""
-    return detection.required_snr_db(pd, pfa, 1, swerling)
-
-
-@functools.partial(jax.jit, static_argnames=("swerling",))
-def _pd(snr_db, pfa, swerling):
-    """Pd at ``snr_db`` (clipped to the domain [-50, 80] dB of :func:`diffsense.detection.pd`)
-    for one envelope-detected pulse; compiled once per Swerling case."""
-    return detection.pd(jnp.clip(snr_db, -50.0, 80.0), pfa, 1, swerling)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -397,10 +383,10 @@ class UltrasonicChain(Chain):
             swerling = self.option(scene, "swerling")
             values.update(noise_voltage_v=env["noise_v"], snr_db=snr)
             if needs(wanted, "required_snr_db", "snr_margin_db", "detection_range_m"):
-                required = _required_snr_db(p["pd"], p["pfa"], swerling)
+                required = single_pulse_required_snr_db(p["pd"], p["pfa"], swerling)
                 values.update(required_snr_db=required, snr_margin_db=snr - required)
             if needs(wanted, "pd"):
-                values["pd"] = _pd(snr, p["pfa"], swerling)
+                values["pd"] = single_pulse_pd(snr, p["pfa"], swerling)
             if needs(wanted, "detection_range_m"):
                 def residual(r):
                     return self._link(scene, p, env, r)[0].total - required

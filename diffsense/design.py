@@ -108,8 +108,11 @@ class DesignModel:
         # outputs read per case (case -> frozenset of output names): by the requirements, by the objective
         self.requirement_outputs: Dict[str, FrozenSet[str]] = self._outputs_by_case(
             (r.case, r.output) for r in self.requirements)
+        # objective terms resolved once: (source, case, name, weight), source one of "cost",
+        # "variable", "combo", "output", "fixed"
+        self._objective_terms = [self._objective_term(name) + (weight,) for name, weight in spec.objective.terms]
         self.objective_outputs: Dict[str, FrozenSet[str]] = self._outputs_by_case(
-            self._objective_output(name) for name, _ in spec.objective.terms)
+            (case, base) for source, case, base, _ in self._objective_terms if source == "output")
         # objective normalisation: its magnitude at the initial design of the first combination
         self._objective_scale = 1.0
         self._evaluate_all = None
@@ -125,14 +128,20 @@ class DesignModel:
                 out.setdefault(pair[0], set()).add(pair[1])
         return {case: frozenset(names) for case, names in out.items()}
 
-    def _objective_output(self, name):
-        """``(case, output)`` when the objective term ``name`` is a chain output, else ``None``."""
+    def _objective_term(self, name):
+        """``(source, case, base)`` of the objective term ``name``: the catalog "cost", a design
+        "variable", a catalog ("combo") parameter, a chain "output" or a "fixed" parameter of
+        ``case`` (the first case when ``name`` names none)."""
         if name == "cost":
-            return None
+            return "cost", None, None
         case, base = name.split(".", 1) if "." in name else (next(iter(self.spec.scenes)), name)
-        if base in self.variable_names or base in self.combo_params or base not in self.spec.outputs[case]:
-            return None
-        return case, base
+        if base in self.variable_names:
+            return "variable", case, base
+        if base in self.combo_params:
+            return "combo", case, base
+        if base in self.spec.outputs[case]:
+            return "output", case, base
+        return "fixed", case, base
 
     # --- evaluation --------------------------------------------------------------------------
     def parameters(self, x, combo) -> Dict[str, Dict[str, jnp.ndarray]]:
@@ -182,17 +191,14 @@ class DesignModel:
         ``evaluations`` the cases are evaluated for :attr:`objective_outputs` only."""
         total = jnp.asarray(0.0)
         ev = None
-        first = next(iter(self.spec.scenes))
-        for name, weight in self.spec.objective.terms:
-            if name == "cost":
-                total = total + weight * combo[-1]
-                continue
-            case, base = (name.split(".", 1) if "." in name else (first, name))
-            if base in self.variable_names:
+        for source, case, base, weight in self._objective_terms:
+            if source == "cost":
+                val = combo[-1]
+            elif source == "variable":
                 val = x[self.variable_names.index(base)]
-            elif base in self.combo_params:
+            elif source == "combo":
                 val = combo[self.combo_params.index(base)]
-            elif base in self.spec.outputs[case]:
+            elif source == "output":
                 if ev is None:
                     ev = self.evaluate(x, combo, self.objective_outputs) if evaluations is None else evaluations
                 val = ev[case].values[base]

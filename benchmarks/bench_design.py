@@ -49,10 +49,10 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import diffsense  # noqa: E402,F401
-from diffsense.design import DesignModel  # noqa: E402
-from diffsense.design_optimizer import _tight_limits, build_problem  # noqa: E402
+from diffsense.design.model import DesignModel  # noqa: E402
+from diffsense.design.optimizer import _tight_limits, build_problem  # noqa: E402
 from diffsense.optimize import SolverOptions, solve  # noqa: E402
-from diffsense.spec import load_spec  # noqa: E402
+from diffsense.design.spec import load_spec  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_optimizer import _median_time  # noqa: E402
@@ -244,7 +244,7 @@ def cli_cold_start(spec_path):
 
 def lanes_in_lockstep(model, problem):
     print("\n== 5. design optimiser's first step: all (start, combination) lanes in one call ==")
-    from diffsense.design_optimizer import lane_grid, lane_solver
+    from diffsense.design.optimizer import lane_grid, lane_solver
     from diffsense.optimize.multistart import start_points
 
     starts = np.vstack([model.initial[None, :], start_points(problem, 7, seed=0, method="lhs")])

@@ -19,8 +19,9 @@ import jax
 import jax.numpy as jnp
 
 import diffsense  # noqa: F401
-from diffsense.chain import complete_parameters, count_equations, evaluate, parameter_table, traced_parts
-from diffsense.radar import PARTS
+from diffsense.scene import complete_parameters, evaluate, parameter_table
+from diffsense.sensors.parts import count_equations, traced_parts
+from diffsense.sensors.radar import PARTS
 from diffsense.scene import Scene
 
 BASE = dict(

@@ -46,8 +46,8 @@ def detection(
     from rich.console import Console
     from rich.table import Table
 
-    from . import detection as det
-    from ._checks import DomainError
+    from diffsense import detection as det
+    from diffsense.errors import DomainError
 
     console = Console()
     ns = _parse_floats(pulses, "--pulses")
@@ -70,7 +70,7 @@ def detection(
     console.print(table)
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
-        from .detection.plots import pd_vs_snr_figure, roc_figure
+        from diffsense.detection.plots import pd_vs_snr_figure, roc_figure
 
         for n in ns:
             fig = pd_vs_snr_figure(pfa=pfa, n=n)
@@ -85,8 +85,9 @@ def detection(
 
 def _load_model(design_file: Path, console):
     """Read and validate a spec; on error print one message and exit with code 2."""
-    from .design import DesignModel
-    from .spec import SpecError, load_spec
+    from diffsense.design.model import DesignModel
+    from diffsense.errors import SpecError
+    from diffsense.design.spec import load_spec
 
     try:
         spec = load_spec(design_file)
@@ -152,7 +153,7 @@ def evaluate(
     """Evaluate a spec at its initial design (each variable's 'initial', each catalog's first option)."""
     from rich.console import Console
 
-    from .design import design_record
+    from diffsense.design.record import design_record
 
     console = Console()
     model = _load_model(design_file, console)
@@ -174,8 +175,8 @@ def optimize(
 
     from rich.console import Console
 
-    from .design import design_record
-    from .design_optimizer import optimize_design
+    from diffsense.design.record import design_record
+    from diffsense.design.optimizer import optimize_design
 
     console = Console()
     t0 = time.perf_counter()
@@ -212,8 +213,8 @@ def report(
     (exit 2 on an invalid spec, 3 when the optimum leaves a requirement unmet)."""
     from rich.console import Console
 
-    from .report import build_report
-    from .spec import SpecError
+    from diffsense.report import build_report
+    from diffsense.errors import SpecError
 
     console = Console()
     try:

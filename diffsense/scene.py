@@ -1,92 +1,129 @@
-"""Scenes: the static structure of one evaluation.
+"""Scenes and the registry of sensor kinds: the entry point of every evaluation.
 
-A :class:`Scene` names the sensor family, the parts the world holds (rain, fog, dust, sea
-clutter, multipath, a jammer, the sun in the field of view...) and static options (Swerling
-case, detector law, waveform kind). It is hashable and is passed to JAX as *static* structure:
-the traced program is built from the parts that exist, so an absent part costs nothing at all —
-it is not computed as a zero, it does not appear in the jaxpr.
+A :class:`Scene` (defined in :mod:`diffsense.sensors.structure`) is static structure: the sensor
+kind, the parts the world holds and static options. :data:`CHAINS` maps each sensor kind to its
+chain — an explicit list of the sensor packages, no plug-in loading — and :func:`evaluate` turns a
+scene and named parameters (SI units, dB explicit) into an
+:class:`~diffsense.sensors.chain.Evaluation`: a link budget of named dB terms and named outputs.
+Numbers never live in the scene; they are the traced parameters, so ``evaluate`` is
+jit/vmap/grad-able in every one of them while an absent part is not in the program at all.
 
-Numbers (ranges, powers, rain rates) never live in the scene; they are the traced parameters
-of :func:`diffsense.chain.evaluate`.
+>>> from diffsense.scene import Scene, evaluate
+>>> ev = evaluate(Scene("radar", [], {"antenna": "specified", "matched_filter": "matched"}),
+...               range_m=10e3, peak_power_w=1e3, pulse_width_s=1e-6, freq_hz=10e9,
+...               bandwidth_hz=1e6, gain_db=30.0, beamwidth_az_deg=3.0, beamwidth_el_deg=3.0,
+...               noise_figure_db=3.0, prf_hz=1e3, n_pulses=1, pd=0.9, pfa=1e-6)
+>>> round(float(ev["snr_db"]), 2)
+7.54
+
+which is the radar equation Pt G² λ² σ / ((4π)³ R⁴ k T0 β F) with σ = 1 m² (the default):
+
+>>> import math
+>>> lam = 299792458.0 / 10e9
+>>> round(10 * math.log10(1e3 * 1e3**2 * lam**2 / ((4 * math.pi)**3 * 1e4**4 * 1.380649e-23 * 290.0 * 1e6 * 10**0.3)), 2)
+7.54
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Any, Iterable, Mapping
+import functools
+from typing import Callable, Dict, Mapping, Optional
 
-from ._checks import DomainError
+import jax
+import jax.numpy as jnp
 
+from diffsense.errors import DomainError
+from diffsense.numerics.checks import check_range, is_concrete
+from diffsense.sensors.chain import Chain, Evaluation, Output, Param
+from diffsense.sensors.infrared import InfraredChain
+from diffsense.sensors.lidar import LidarChain
+from diffsense.sensors.radar import RadarChain
+from diffsense.sensors.radiometer import RadiometerChain
+from diffsense.sensors.sonar import SonarChain
+from diffsense.sensors.structure import Scene
+from diffsense.sensors.ultrasonic import UltrasonicChain
 
-def _freeze_options(options) -> tuple[tuple[str, Any], ...]:
-    if options is None:
-        return ()
-    if isinstance(options, Mapping):
-        items = options.items()
-    else:
-        items = options
-    out = []
-    for key, value in items:
-        if isinstance(value, list):
-            value = tuple(value)
-        out.append((str(key), value))
-    return tuple(sorted(out))
+__all__ = ["Scene", "CHAINS", "sensor_kinds", "chain_for", "complete_parameters", "evaluate", "evaluator",
+           "parameter_table", "output_table"]
 
-
-@dataclass(frozen=True)
-class Scene:
-    """Static structure of an evaluation.
-
-    ``sensor``: the sensor family, a key of :data:`diffsense.chain.CHAINS` ("radar", "lidar",
-    "sonar", "radiometer", "infrared", "ultrasonic").
-    ``parts``: names of the scene parts that exist (each chain documents the parts it knows).
-    ``options``: static choices, e.g. ``{"swerling": 1, "detector": "square_law"}``.
-    """
-
-    sensor: str
-    parts: frozenset = field(default_factory=frozenset)
-    options: tuple = ()
-
-    def __init__(self, sensor: str, parts: Iterable[str] = (), options=None):
-        object.__setattr__(self, "sensor", str(sensor))
-        object.__setattr__(self, "parts", frozenset(str(p) for p in parts))
-        object.__setattr__(self, "options", _freeze_options(options))
-
-    def has(self, part: str) -> bool:
-        """True when the scene holds ``part``."""
-        return part in self.parts
-
-    def option(self, name: str, default=None):
-        """The static option ``name`` (or ``default`` when the scene does not set it)."""
-        for key, value in self.options:
-            if key == name:
-                return value
-        return default
-
-    def with_parts(self, *parts: str) -> "Scene":
-        """A copy of the scene with ``parts`` added."""
-        return Scene(self.sensor, self.parts | set(parts), self.options)
-
-    def without_parts(self, *parts: str) -> "Scene":
-        """A copy of the scene with ``parts`` removed."""
-        return Scene(self.sensor, self.parts - set(parts), self.options)
-
-    def with_options(self, **options) -> "Scene":
-        """A copy of the scene with static ``options`` set or replaced."""
-        merged = dict(self.options)
-        merged.update(options)
-        return Scene(self.sensor, self.parts, merged)
-
-    def __repr__(self) -> str:
-        parts = ", ".join(sorted(self.parts))
-        opts = ", ".join(f"{k}={v!r}" for k, v in self.options)
-        return f"Scene({self.sensor!r}, parts={{{parts}}}, options={{{opts}}})"
+CHAINS: Dict[str, Chain] = {chain.kind: chain for chain in (
+    RadarChain(), LidarChain(), SonarChain(), RadiometerChain(), InfraredChain(), UltrasonicChain())}
+"""Sensor kind -> its chain: every sensor diffsense models."""
 
 
-def require_known_parts(scene: Scene, known: Mapping[str, str]) -> None:
-    """Raise :class:`DomainError` if the scene names a part the chain does not model."""
-    unknown = sorted(scene.parts - set(known))
+def sensor_kinds() -> list:
+    """Names of the sensor kinds, sorted."""
+    return sorted(CHAINS)
+
+
+def chain_for(scene: Scene) -> Chain:
+    """The chain of ``scene.sensor``, validated against the scene."""
+    if scene.sensor not in CHAINS:
+        raise DomainError(f"unknown sensor kind {scene.sensor!r}; known kinds: {sorted(CHAINS)}")
+    chain = CHAINS[scene.sensor]
+    chain.validate_scene(scene)
+    return chain
+
+
+def complete_parameters(scene: Scene, params: Mapping[str, object]) -> Dict[str, jnp.ndarray]:
+    """Fill defaults, reject unknown or missing names, check concrete values against domains."""
+    chain = chain_for(scene)
+    spec = chain.parameters(scene)
+    unknown = sorted(set(params) - set(spec))
     if unknown:
         raise DomainError(
-            f"{scene.sensor} scene: unknown part(s) {unknown}; known parts: {sorted(known)}"
+            f"{scene.sensor} scene {sorted(scene.parts)}: unknown parameter(s) {unknown}; "
+            f"known: {sorted(spec)}"
         )
+    out = {}
+    missing = []
+    for name, prm in spec.items():
+        if name in params:
+            value = params[name]
+        elif prm.default is not None:
+            value = prm.default
+        else:
+            missing.append(name)
+            continue
+        if is_concrete(value):
+            check_range(name, value, prm.lo, prm.hi, lo_open=prm.lo_open, hi_open=prm.hi_open,
+                        where=f"{scene.sensor} chain")
+        out[name] = jnp.asarray(value, dtype=float)
+    if missing:
+        raise DomainError(f"{scene.sensor} scene: missing required parameter(s) {missing}")
+    return out
+
+
+def evaluate(scene: Scene, params: Optional[Mapping[str, object]] = None, **kwargs) -> Evaluation:
+    """Evaluate the chain of ``scene`` at the named parameters (keyword or mapping).
+
+    Returns an :class:`Evaluation` with the link budget and the named outputs. Pure and
+    jit/vmap/grad-able in the parameter values; ``scene`` is static.
+    """
+    merged = dict(params or {})
+    merged.update(kwargs)
+    chain = chain_for(scene)
+    p = complete_parameters(scene, merged)
+    return chain.compute(scene, p)
+
+
+@functools.lru_cache(maxsize=256)
+def evaluator(scene: Scene) -> Callable:
+    """A jitted ``params -> Evaluation`` for ``scene`` (cached per scene).
+
+    ``params`` must hold every parameter (see :func:`complete_parameters`).
+    """
+    chain = chain_for(scene)
+    return jax.jit(lambda p: chain.compute(scene, p))
+
+
+def parameter_table(scene: Scene) -> Dict[str, Param]:
+    """The parameters a scene takes (name -> :class:`Param`)."""
+    return chain_for(scene).parameters(scene)
+
+
+def output_table(scene: Scene) -> Dict[str, Output]:
+    """The outputs a scene produces (name -> :class:`Output`)."""
+    return chain_for(scene).outputs(scene)
+
+

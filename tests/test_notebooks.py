@@ -16,9 +16,10 @@ import pytest
 from nbclient import NotebookClient
 from scipy.optimize import brentq
 
-from diffsense.spec import load_spec
+from diffsense.design.spec import load_spec
+from helpers.paths import REPO
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = REPO
 C = 299792458.0  # m/s, exact
 K_BOLTZMANN = 1.380649e-23  # J/K, exact
 T0 = 290.0  # K, IEEE reference noise temperature

@@ -6,12 +6,12 @@ Public contract: :func:`threshold`, :func:`pd`, :func:`required_snr_db` (other t
 broadcast, and every function is jit/vmap/grad-able.
 """
 
-from .cfar import cfar_loss_db, cfar_multiplier, cfar_pd
-from .core import pd_given_threshold
-from .losses import fluctuation_loss_db, integration_gain_db, integration_loss_db
-from .matched_filter import matched_filter_loss_db, optimum_bandwidth_time_product
-from .probability import db_to_linear, linear_to_db, pd, pd_coherent
-from .required_snr import (
+from diffsense.detection.cfar import cfar_loss_db, cfar_multiplier, cfar_pd
+from diffsense.detection.core import pd_given_threshold
+from diffsense.detection.losses import fluctuation_loss_db, integration_gain_db, integration_loss_db
+from diffsense.detection.matched_filter import matched_filter_loss_db, optimum_bandwidth_time_product
+from diffsense.detection.probability import db_to_linear, linear_to_db, pd, pd_coherent
+from diffsense.detection.required_snr import (
     BOOK_SDLA_EXTRA_PULSES,
     albersheim_snr_db,
     book_integration_gain_db,
@@ -19,7 +19,13 @@ from .required_snr import (
     required_snr_db,
     shnidman_snr_db,
 )
-from .threshold import false_alarm_time_s, pfa_from_false_alarm_time, pfa_from_threshold, threshold, voltage_threshold
+from diffsense.detection.threshold import (
+    false_alarm_time_s,
+    pfa_from_false_alarm_time,
+    pfa_from_threshold,
+    threshold,
+    voltage_threshold,
+)
 
 __all__ = [
     "threshold",

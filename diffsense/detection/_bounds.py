@@ -33,8 +33,8 @@ from __future__ import annotations
 
 import jax.numpy as jnp
 
-from ._logpmf import bd0
-from ._precision import single_precision
+from diffsense.detection._logpmf import bd0
+from diffsense.detection._precision import single_precision
 
 __all__ = [
     "tail_exponent",

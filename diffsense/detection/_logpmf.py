@@ -29,7 +29,7 @@ from __future__ import annotations
 import jax.numpy as jnp
 from jax.scipy.special import gammaln
 
-from ._precision import single_precision
+from diffsense.detection._precision import single_precision
 
 _HALF_LOG_2PI = 0.9189385332046727417803297364056176
 

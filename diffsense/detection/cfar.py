@@ -66,7 +66,10 @@ import jax.numpy as jnp
 import numpy as np
 from jax.scipy.special import betainc, gammaln, ndtri
 
-from .._checks import DomainError, check_choice, check_range, is_concrete
+from diffsense.errors import DomainError
+from diffsense.numerics.checks import check_choice, check_range, is_concrete
+from diffsense.detection import core  # the known-noise detector model
+from diffsense.detection.required_snr import required_snr_db  # the known-noise requirement
 
 __all__ = [
     "cfar_multiplier",
@@ -314,8 +317,6 @@ def _pd_swerling2(snr_linear, alpha, m, n):
 
 
 def _core_pd_given_threshold(swerling: int):
-    from . import core  # the known-noise detector model (diffsense.detection.core)
-
     return lambda s, t, n: core.pd_given_threshold(s, t, n, swerling)
 
 
@@ -496,7 +497,5 @@ def cfar_loss_db(pd, pfa, m_cells, n=1, swerling=0):
     _check_common(where, pfa, m_cells, n)
     _check_pd(where, pd, pfa)
     pd, pfa, m, n = jnp.broadcast_arrays(*_as_float(pd, pfa, m_cells, n))
-    from . import required_snr_db  # the known-noise requirement (diffsense.detection)
-
     s_cfar = _required_snr_db_jit(jnp.log(pd), jnp.log(pfa), m, n, model)
     return s_cfar - required_snr_db(pd, pfa, n, swerling)

@@ -83,10 +83,10 @@ import jax
 import jax.numpy as jnp
 from jax.scipy.special import digamma, gammaincc
 
-from ._bounds import mixing_bounds, tail_exponent, window_bounds
-from ._logpmf import log_negbin_pmf, log_negbin_pmf_mean, log_poisson_pmf
-from ._precision import single_precision
-from .steady import steady_pd
+from diffsense.detection._bounds import mixing_bounds, tail_exponent, window_bounds
+from diffsense.detection._logpmf import log_negbin_pmf, log_negbin_pmf_mean, log_poisson_pmf
+from diffsense.detection._precision import single_precision
+from diffsense.detection.steady import steady_pd
 
 __all__ = ["pd_given_threshold", "SWERLING_CASES", "window_bounds"]
 

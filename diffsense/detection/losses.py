@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import jax.numpy as jnp
 
-from .required_snr import required_snr_db
+from diffsense.detection.required_snr import required_snr_db
 
 __all__ = ["fluctuation_loss_db", "integration_gain_db", "integration_loss_db"]
 

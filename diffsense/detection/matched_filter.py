@@ -64,7 +64,7 @@ import jax
 import jax.numpy as jnp
 from jax.scipy.special import erf
 
-from .._checks import check_choice, check_range
+from diffsense.numerics.checks import check_choice, check_range
 
 __all__ = [
     "FILTERS",

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .probability import pd as _pd
+from diffsense.detection.probability import pd as _pd
 
 __all__ = ["pd_vs_snr_figure", "roc_figure"]
 

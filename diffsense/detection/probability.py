@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import jax.numpy as jnp
 
-from .._checks import check_range
-from .core import SWERLING_CASES, pd_given_threshold
-from .threshold import _threshold
+from diffsense.numerics.checks import check_range
+from diffsense.detection.core import SWERLING_CASES, pd_given_threshold
+from diffsense.detection.threshold import _threshold
 
 __all__ = ["pd", "pd_coherent", "db_to_linear", "linear_to_db"]
 

@@ -36,10 +36,11 @@ import jax.numpy as jnp
 import numpy as np
 from jax.scipy.special import ndtri
 
-from .._checks import DomainError, check_range, is_concrete
-from .core import SWERLING_CASES, _chunked, _mixture_sum, pd_given_threshold
-from .probability import N_RANGE, PFA_RANGE, db_to_linear, linear_to_db
-from .threshold import _threshold
+from diffsense.errors import DomainError
+from diffsense.numerics.checks import check_range, is_concrete
+from diffsense.detection.core import SWERLING_CASES, _chunked, _mixture_sum, pd_given_threshold
+from diffsense.detection.probability import N_RANGE, PFA_RANGE, db_to_linear, linear_to_db
+from diffsense.detection.threshold import _threshold
 
 __all__ = [
     "required_snr_db",

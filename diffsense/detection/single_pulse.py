@@ -12,8 +12,8 @@ import functools
 import jax
 import jax.numpy as jnp
 
-from .probability import SNR_DB_RANGE, pd
-from .required_snr import required_snr_db
+from diffsense.detection.probability import SNR_DB_RANGE, pd
+from diffsense.detection.required_snr import required_snr_db
 
 __all__ = ["single_pulse_required_snr_db", "single_pulse_pd"]
 

@@ -62,9 +62,9 @@ import math
 import jax
 import jax.numpy as jnp
 
-from ._bounds import tail_exponent, tight_upper_bound, window_bounds
-from ._logpmf import bd0_wide, stirlerr
-from ._precision import single_precision
+from diffsense.detection._bounds import tail_exponent, tight_upper_bound, window_bounds
+from diffsense.detection._logpmf import bd0_wide, stirlerr
+from diffsense.detection._precision import single_precision
 
 __all__ = ["steady_pd", "log_poisson_pmf_at_integer"]
 

@@ -23,8 +23,8 @@ import jax
 import jax.numpy as jnp
 from jax.scipy.special import gammaincc, ndtri
 
-from .._checks import check_range
-from ._logpmf import log_poisson_pmf
+from diffsense.numerics.checks import check_range
+from diffsense.detection._logpmf import log_poisson_pmf
 
 __all__ = [
     "threshold",

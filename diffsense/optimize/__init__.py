@@ -21,8 +21,8 @@
 * :mod:`.reference_problems` — Hock–Schittkowski and closed-form test problems.
 """
 
-from .problem import Problem
-from .constrained import (
+from diffsense.optimize.problem import Problem
+from diffsense.optimize.constrained import (
     Conflict,
     KKTResidual,
     Result,
@@ -34,9 +34,15 @@ from .constrained import (
     solve,
     violation,
 )
-from .sensitivity import Sensitivity, Solution, differentiable_solver, kkt_sensitivity, shadow_prices
-from .integer import CatalogResult, MixedIntegerResult, solve_catalog, solve_mixed_integer
-from .multistart import (
+from diffsense.optimize.sensitivity import (
+    Sensitivity,
+    Solution,
+    differentiable_solver,
+    kkt_sensitivity,
+    shadow_prices,
+)
+from diffsense.optimize.integer import CatalogResult, MixedIntegerResult, solve_catalog, solve_mixed_integer
+from diffsense.optimize.multistart import (
     MultistartResult,
     latin_hypercube,
     make_multistart,
@@ -45,7 +51,7 @@ from .multistart import (
     sobol_points,
     start_points,
 )
-from .batch import make_batch_solver, solve_batch
+from diffsense.optimize.batch import make_batch_solver, solve_batch
 
 __all__ = [
     "Problem", "SolverOptions", "Result", "KKTResidual", "Conflict", "Scales", "solve", "make_solver",

@@ -61,9 +61,22 @@ import jax
 import jax.numpy as jnp
 from jax import lax
 
-from .constrained import (
-    _DONE, _RESTORE, _SETUP, _Context, _dxdz, _reparam, _State, _subproblem, close_subproblem, linearize_at,
-    physical_point, pick, projected_gradient_norm, scales_from, snap_to_bounds,
+from diffsense.optimize.constrained import (
+    _DONE,
+    _RESTORE,
+    _SETUP,
+    _Context,
+    _dxdz,
+    _reparam,
+    _State,
+    _subproblem,
+    close_subproblem,
+    linearize_at,
+    physical_point,
+    pick,
+    projected_gradient_norm,
+    scales_from,
+    snap_to_bounds,
 )
 
 _ARMIJO = 1e-4  # sufficient-decrease constant

@@ -32,9 +32,9 @@ import jax.numpy as jnp
 import numpy as np
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
-from .._checks import DomainError
-from .constrained import Result, SolverOptions, jit_with_options, solve
-from .problem import Problem
+from diffsense.errors import DomainError
+from diffsense.optimize.constrained import Result, SolverOptions, jit_with_options, solve
+from diffsense.optimize.problem import Problem
 
 
 def _batch_size(x0, thetas) -> int:

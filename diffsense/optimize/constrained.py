@@ -105,8 +105,8 @@ import jax.numpy as jnp
 import optimistix as optx
 from jax import lax
 
-from .._checks import check_choice, check_range
-from .problem import Problem, check_start
+from diffsense.numerics.checks import check_choice, check_range
+from diffsense.optimize.problem import Problem, check_start
 
 
 @dataclass(frozen=True)
@@ -732,7 +732,7 @@ def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptio
     ``x0`` (see :mod:`diffsense.optimize.multistart` for several starts).
     """
     if options.method == "sqp":
-        from .sqp import solve_sqp
+        from diffsense.optimize.sqp import solve_sqp
 
         return solve_sqp(problem, x0, theta, options)
     dtype, zlo, zhi, z0, m, p = scaled_start(problem, x0, theta)
@@ -766,7 +766,7 @@ def solve(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptio
 
     ctx = _Context(problem, theta, options, zlo, zhi, m, dtype, can_restore)
     if options.inner == "fused":
-        from .al_fused import fused_loop
+        from diffsense.optimize.al_fused import fused_loop
 
         state = fused_loop(ctx, state)
     else:

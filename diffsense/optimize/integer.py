@@ -33,9 +33,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._checks import DomainError, check_range
-from .constrained import Result, SolverOptions, solve
-from .problem import Problem, check_start
+from diffsense.errors import DomainError
+from diffsense.numerics.checks import check_range
+from diffsense.optimize.constrained import Result, SolverOptions, solve
+from diffsense.optimize.problem import Problem, check_start
 
 
 class MixedIntegerResult(NamedTuple):

@@ -30,9 +30,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._checks import DomainError, check_choice, check_range
-from .constrained import Result, SolverOptions, jit_with_options, solve
-from .problem import Problem
+from diffsense.errors import DomainError
+from diffsense.numerics.checks import check_choice, check_range
+from diffsense.optimize.constrained import Result, SolverOptions, jit_with_options, solve
+from diffsense.optimize.problem import Problem
 
 # Joe & Kuo (2008), new-joe-kuo-6.21201: (s, a, m_1..m_s) for dimensions 2..32; dimension 1
 # is the van der Corput sequence (all m_i = 1).

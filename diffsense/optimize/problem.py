@@ -41,7 +41,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._checks import DomainError, check_range, is_concrete
+from diffsense.errors import DomainError
+from diffsense.numerics.checks import check_range, is_concrete
 
 
 def _as_vector(value, n: int, name: str, dtype=float) -> np.ndarray:

@@ -22,7 +22,7 @@ from typing import Any, NamedTuple, Optional
 import jax.numpy as jnp
 import numpy as np
 
-from .problem import Problem
+from diffsense.optimize.problem import Problem
 
 
 class ReferenceProblem(NamedTuple):

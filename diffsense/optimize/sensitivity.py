@@ -40,9 +40,9 @@ import jax
 import jax.numpy as jnp
 from jax.flatten_util import ravel_pytree
 
-from .._checks import DomainError
-from .constrained import Result, SolverOptions, kkt_equations, make_model, solve
-from .problem import Problem
+from diffsense.errors import DomainError
+from diffsense.optimize.constrained import Result, SolverOptions, kkt_equations, make_model, solve
+from diffsense.optimize.problem import Problem
 
 
 class Sensitivity(NamedTuple):

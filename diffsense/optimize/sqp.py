@@ -69,7 +69,7 @@ Scope. Fast and compact on well-posed problems; it has no restoration phase: an 
 problem ends with ``converged`` False and ``conflict`` marking the constraints left violated and
 the bounds that block progress (read from the ℓ1 infeasibility gradient), but the answer is the
 last iterate, not a least-infeasible point. :func:`diffsense.optimize.solve` (``method="al"``)
-is the robust method, and the one :func:`diffsense.design_optimizer.optimize_design` uses.
+is the robust method, and the one :func:`diffsense.design.optimizer.optimize_design` uses.
 """
 
 from __future__ import annotations
@@ -80,7 +80,7 @@ import jax
 import jax.numpy as jnp
 from jax import lax
 
-from .constrained import (
+from diffsense.optimize.constrained import (
     KKTResidual,
     Result,
     Scales,
@@ -96,9 +96,9 @@ from .constrained import (
     scales_from,
     snap_to_bounds,
 )
-from .problem import Problem
-from .active_set import solve_qp_active_set
-from .qp import solve_qp
+from diffsense.optimize.problem import Problem
+from diffsense.optimize.active_set import solve_qp_active_set
+from diffsense.optimize.qp import solve_qp
 
 _FREE_STEP = 10.0  # step bound (scaled units) of a variable without a finite bound
 

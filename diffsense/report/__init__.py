@@ -8,6 +8,6 @@ d optimum / d limit), :mod:`.sweeps` (range, false-alarm and coverage data), :mo
 :mod:`.build` (the assembly).
 """
 
-from .build import FIGURE_DIR, build_report
+from diffsense.report.build import FIGURE_DIR, build_report
 
 __all__ = ["build_report", "FIGURE_DIR"]

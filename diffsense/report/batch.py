@@ -15,8 +15,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..design import DesignModel
-from .inputs import Input, input_evaluator
+from diffsense.design.model import DesignModel
+from diffsense.report.inputs import Input, input_evaluator
 
 
 class BatchEvaluator:

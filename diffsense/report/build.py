@@ -14,16 +14,24 @@ from typing import Dict, List, Optional
 
 import numpy as np
 
-from ..design import DesignModel, design_table
-from ..spec import load_spec
-from . import figures
-from .batch import BatchEvaluator, row
-from .content import report_blocks
-from .inputs import design_inputs, input_evaluator
-from .jacobian import jacobian_section
-from .postoptimal import post_optimal_section
-from .render import si_text, unit_text, write_report
-from .sweeps import blake_coverage, budget_rows, input_index, main_margin, range_sweep, roc_sweep
+from diffsense.design.model import DesignModel
+from diffsense.design.record import design_table
+from diffsense.design.spec import load_spec
+from diffsense.report import figures
+from diffsense.report.batch import BatchEvaluator, row
+from diffsense.report.content import report_blocks
+from diffsense.report.inputs import design_inputs, input_evaluator
+from diffsense.report.jacobian import jacobian_section
+from diffsense.report.postoptimal import post_optimal_section
+from diffsense.report.render import si_text, unit_text, write_report
+from diffsense.report.sweeps import (
+    blake_coverage,
+    budget_rows,
+    input_index,
+    main_margin,
+    range_sweep,
+    roc_sweep,
+)
 
 FIGURE_DIR = "figures"
 _EVALUATORS: Dict[tuple, BatchEvaluator] = {}
@@ -60,12 +68,12 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
     """Write ``report.md``, ``report.html``, ``report.json`` and the figures (PNG, in
     ``out_dir/figures``) for the spec ``spec_path``; return the report dict (as in the JSON).
 
-    ``optimize``: report the optimum of :func:`~diffsense.design_optimizer.optimize_design`
+    ``optimize``: report the optimum of :func:`~diffsense.design.optimizer.optimize_design`
     (``n_starts``, ``seed``); ``False`` reports the spec's initial design (each variable's
     ``initial``, each catalog's first option), like ``diffsense evaluate``.
-    ``optimum``: a :class:`~diffsense.design_optimizer.DesignOptimum` already computed for this
+    ``optimum``: a :class:`~diffsense.design.optimizer.DesignOptimum` already computed for this
     spec; it is reported instead of optimising again (``optimize`` is then ignored).
-    Raises :class:`~diffsense.spec.SpecError` for an invalid spec; every other failure only
+    Raises :class:`~diffsense.errors.SpecError` for an invalid spec; every other failure only
     removes the section it concerns (listed under ``unavailable``).
     """
     t_start = time.perf_counter()
@@ -83,7 +91,7 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
     if optimize:
         t0 = time.perf_counter()
         if optimum is None:
-            from ..design_optimizer import optimize_design
+            from diffsense.design.optimizer import optimize_design
 
             result = optimize_design(model, n_starts=n_starts, seed=seed)
         else:

@@ -6,8 +6,8 @@ from typing import List
 
 import numpy as np
 
-from .jacobian import FD_STEP
-from .render import fmt, unit_text
+from diffsense.report.jacobian import FD_STEP
+from diffsense.report.render import fmt, unit_text
 
 _SENSE = {"at_least": "≥", "at_most": "≤", "equals": "="}
 

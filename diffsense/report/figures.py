@@ -223,7 +223,7 @@ def roc(path, data: dict, *, required_pd: Optional[float], title: str) -> Path:
 def blake_chart(path, data: dict, *, title: str) -> Path:
     """Range-height-angle coverage: the detection contour with elevation-angle guide lines
     and the horizon over the 4/3 earth."""
-    from .sweeps import height_over_effective_earth_m
+    from diffsense.report.sweeps import height_over_effective_earth_m
 
     plt = _pyplot()
     ranges = np.asarray(data["range_m"], dtype=float)

@@ -14,7 +14,7 @@ that differs between cases (e.g. each case's ``range_m``) is one input per case,
 
 :func:`input_evaluator` returns a pure JAX function of that vector giving each case's chain
 evaluation, the requirement outputs and the objective — the same numbers as
-:class:`~diffsense.design.DesignModel` at the same design, but with the fixed parameters
+:class:`~diffsense.design.model.DesignModel` at the same design, but with the fixed parameters
 traced as well.
 """
 
@@ -26,8 +26,8 @@ from typing import Dict, List, Optional, Tuple
 import jax.numpy as jnp
 import numpy as np
 
-from ..chain import chain_for
-from ..design import DesignModel
+from diffsense.scene import chain_for
+from diffsense.design.model import DesignModel
 
 KINDS = ("variable", "catalog", "fixed")
 
@@ -106,7 +106,7 @@ def input_evaluator(model: DesignModel, inputs: List[Input], combo_index: int):
 
     ``v`` may also be a dict ``{input index: value}`` covering every input; entries given as
     Python/NumPy numbers stay constants under JAX transformations (only the traced entries
-    are differentiated). ``evaluations``: per case the chain's :class:`~diffsense.chain.Evaluation`;
+    are differentiated). ``evaluations``: per case the chain's :class:`~diffsense.sensors.chain.Evaluation`;
     ``requirement_values``: the requirement outputs in spec order (their units);
     ``objective``: the spec's objective value (as stated: minimised or maximised).
     The objective's dependence on a *fixed* parameter is not traced (the model reads fixed

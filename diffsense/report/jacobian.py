@@ -42,7 +42,7 @@ from typing import List, Optional
 
 import numpy as np
 
-from .inputs import Input
+from diffsense.report.inputs import Input
 
 _LN10_10 = math.log(10.0) / 10.0
 _NON_RATIO_UNITS = {"degC", "degF", "celsius", "fahrenheit", "degree_Celsius", "degree_Fahrenheit"}

@@ -42,8 +42,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..design import DesignModel
-from .inputs import Input
+from diffsense.design.model import DesignModel
+from diffsense.report.inputs import Input
 
 ACTIVE_TOL = 1e-6  # scaled residual above which an inequality counts as active
 BOUND_TOL = 1e-7  # distance to a bound, relative to the (log-)width of the box

@@ -13,9 +13,9 @@ from typing import List, Optional
 
 import numpy as np
 
-from ..design import DesignModel
-from ..propagation.refraction import effective_earth_radius_m
-from .inputs import Input
+from diffsense.design.model import DesignModel
+from diffsense.physics.propagation.refraction import effective_earth_radius_m
+from diffsense.report.inputs import Input
 
 #: preference order of the output that carries "the" detection margin of a case
 MARGIN_OUTPUTS = ("faded_snr_margin_db", "snr_margin_db", "signal_excess_db", "detection_margin_db")

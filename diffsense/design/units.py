@@ -1,0 +1,110 @@
+"""Quantities with units for requirement specs: "94 GHz", "250 mm", "20 dBm", "11.5 dBsm".
+
+Linear units and the logarithmic power units dBm, dBW and dB are handled by the ``pint``
+units library; "dBsm" (dB relative to 1 m², radar cross-section) and "dBi" (antenna gain,
+dB relative to isotropic) are added here as 10·log10 power ratios. A bare number is read in
+the parameter's own unit; nothing is guessed.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import re
+from typing import Union
+
+from diffsense.errors import UnitError
+
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+_QUANTITY = re.compile(rf"^\s*({_NUMBER})\s*(.*?)\s*$")
+
+# logarithmic units that are not in pint's default registry: name -> (linear unit, factor)
+_EXTRA_LOG_UNITS = {"dBsm": "m**2", "dBi": "dimensionless"}
+_UNIT_ALIASES = {"dBsm": "dBsm", "dBm2": "dBsm", "dBi": "dBi"}
+
+
+# absolute levels: name -> (linear unit, level of 1 linear unit in this scale)
+_LOG_LEVELS = {"dBm": ("W", 30.0), "dBW": ("W", 0.0), "dBsm": ("m**2", 0.0)}
+
+
+@functools.lru_cache(maxsize=1)
+def registry():
+    """The shared ``pint`` unit registry."""
+    import pint
+
+    return pint.UnitRegistry()
+
+
+def split_quantity(text: str):
+    """Split ``"94 GHz"`` into ``(94.0, "GHz")``; raise :class:`UnitError` if malformed."""
+    m = _QUANTITY.match(text)
+    if not m:
+        raise UnitError(f"cannot read {text!r} as '<number> <unit>'")
+    return float(m.group(1)), m.group(2)
+
+
+def _to_linear(value: float, unit: str, target: str) -> float:
+    if unit in _EXTRA_LOG_UNITS:
+        base = _EXTRA_LOG_UNITS[unit]
+        return _to_linear(10.0 ** (value / 10.0), base, target)
+    ureg = registry()
+    try:
+        q = ureg.Quantity(value, unit or "dimensionless")
+        return float(q.to(target or "dimensionless").magnitude)
+    except Exception as exc:  # pint raises several exception types
+        name = type(exc).__name__
+        if name == "UndefinedUnitError":
+            raise UnitError(f"unknown unit {unit!r}") from None
+        if name == "DimensionalityError":
+            raise UnitError(f"unit {unit!r} cannot be converted to {target!r}") from None
+        raise UnitError(f"cannot convert {value} {unit} to {target!r}: {exc}") from None
+
+
+def to_unit(value: Union[str, int, float], target: str) -> float:
+    """Convert ``value`` (a number already in ``target``, or a string "<number> <unit>") to
+    ``target``.
+
+    For ``target`` "dB" the value must be a bare number or carry "dB"/"dBi"; absolute levels
+    (dBm, dBW, dBsm) are refused there. For a dimensionless ``target`` a "dB" value is turned
+    into its power ratio. Raises :class:`UnitError` with a message naming the offending unit.
+    """
+    if isinstance(value, bool):
+        raise UnitError(f"expected a number or a quantity string, got the boolean {value!r}")
+    if isinstance(value, (int, float)):
+        if not math.isfinite(float(value)):
+            raise UnitError(f"value {value!r} is not finite")
+        return float(value)
+    if not isinstance(value, str):
+        raise UnitError(f"expected a number or a quantity string, got {type(value).__name__} {value!r}")
+    number, unit = split_quantity(value)
+    unit = _UNIT_ALIASES.get(unit, unit)
+    if target == "dB":
+        if unit in ("", "dB", "dBi"):
+            return number
+        if unit in ("dBsm", "dBm", "dBW"):
+            raise UnitError(f"unit {unit!r} is an absolute level; this value is a ratio in dB")
+        raise UnitError(f"unit {unit!r} cannot be converted to 'dB' (write e.g. '3 dB')")
+    if unit == "" and target not in ("", "1", "dimensionless"):
+        return number
+    if target in _LOG_LEVELS:
+        if unit == target:
+            return number
+        if unit in _LOG_LEVELS and _LOG_LEVELS[unit][0] == _LOG_LEVELS[target][0]:
+            return number - _LOG_LEVELS[unit][1] + _LOG_LEVELS[target][1]
+        linear = _to_linear(number, unit, _LOG_LEVELS[target][0])
+        if linear <= 0:
+            raise UnitError(f"{value!r} is not positive, so it has no level in {target}")
+        return 10.0 * math.log10(linear) + _LOG_LEVELS[target][1]
+    if unit == "dB" and target in ("", "1", "dimensionless"):
+        return 10.0 ** (number / 10.0)
+    return _to_linear(number, unit, target)
+
+
+def check_unit(unit: str) -> None:
+    """Raise :class:`UnitError` unless ``unit`` is a unit this module can convert to."""
+    if unit in ("dB", "", "1") or unit in _EXTRA_LOG_UNITS:
+        return
+    try:
+        registry().parse_units(unit)
+    except Exception:
+        raise UnitError(f"unknown unit {unit!r}") from None

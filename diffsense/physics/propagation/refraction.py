@@ -1,0 +1,73 @@
+"""Standard-atmosphere refraction: effective earth radius and radar horizon.
+
+A linear refractivity gradient dN/dh = -39 N-units/km bends rays like a straight line over
+an earth of radius k a, k = 4/3 (Skolnik, *Introduction to Radar Systems*, 3rd ed. §8.2;
+ITU-R P.834 / P.453 median k = 4/3). Exact geometry over the effective sphere::
+
+    horizon of a terminal at height h:   d(h) = sqrt(2 k a h + h^2)
+    radar horizon (antenna h1, target h2): d(h1) + d(h2)
+    lowest visible target at range R (> d(h1)):  h2 = sqrt((k a)^2 + (R - d(h1))^2) - k a
+
+(the well-known approximations are d ≈ sqrt(2 k a h), d[km] ≈ 4.12 (sqrt(h1[m]) + sqrt(h2[m]))).
+"""
+
+from __future__ import annotations
+
+import jax.numpy as jnp
+
+from diffsense.numerics.checks import check_range
+
+__all__ = [
+    "EARTH_RADIUS_M",
+    "effective_earth_radius_m",
+    "horizon_distance_m",
+    "radar_horizon_m",
+    "minimum_visible_target_height_m",
+]
+
+EARTH_RADIUS_M = 6_371_000.0  # mean earth radius (IUGG)
+_WHERE = "refraction / radar horizon"
+
+
+def effective_earth_radius_m(k_factor=4.0 / 3.0):
+    """Effective earth radius k a (m), a = 6371 km; ``k_factor`` in [0.5, 10] (4/3 standard)."""
+    check_range("k_factor", k_factor, 0.5, 10.0, where=_WHERE)
+    return jnp.asarray(k_factor, dtype=float) * EARTH_RADIUS_M
+
+
+def horizon_distance_m(height_m, k_factor=4.0 / 3.0):
+    """Distance (m) to the geometric horizon over the effective earth: sqrt(2 k a h + h^2).
+
+    ``height_m`` h (m) in [0, 1e5]; exact in the effective-earth model. The derivative in h
+    is finite for h > 0; at exactly h = 0 (where it is infinite) it is returned as 0.
+    """
+    check_range("height_m", height_m, 0.0, 1e5, where=_WHERE)
+    ae = effective_earth_radius_m(k_factor)
+    h = jnp.asarray(height_m, dtype=float)
+    positive = h > 0.0
+    h_safe = jnp.where(positive, h, 1.0)
+    return jnp.where(positive, jnp.sqrt(2.0 * ae * h_safe + h_safe**2), 0.0)
+
+
+def radar_horizon_m(antenna_height_m, target_height_m, k_factor=4.0 / 3.0):
+    """Radar horizon (m): d(h_antenna) + d(h_target), d(h) = sqrt(2 k a h + h^2).
+
+    Args: ``antenna_height_m``, ``target_height_m`` (m) in [0, 1e5]; ``k_factor`` (4/3).
+    Example: 8 m antenna, 3 m sea-skimmer, k = 4/3 -> 18.79 km.
+    Source: Skolnik (2001) §8.2; effective earth radius k a.
+    """
+    return horizon_distance_m(antenna_height_m, k_factor) + horizon_distance_m(target_height_m, k_factor)
+
+
+def minimum_visible_target_height_m(range_m, antenna_height_m, k_factor=4.0 / 3.0):
+    """Lowest target height (m) in line of sight at ground range R from an antenna at h1.
+
+    h2 = sqrt((k a)^2 + s^2) - k a with s = max(R - d(h1), 0) (zero inside the antenna's
+    own horizon). Written as s^2 / (sqrt((k a)^2 + s^2) + k a) to avoid cancellation.
+
+    Args: ``range_m`` R (m) in [0, 1e7]; ``antenna_height_m`` (m); ``k_factor`` (4/3).
+    """
+    check_range("range_m", range_m, 0.0, 1e7, where=_WHERE)
+    ae = effective_earth_radius_m(k_factor)
+    s = jnp.maximum(jnp.asarray(range_m, dtype=float) - horizon_distance_m(antenna_height_m, k_factor), 0.0)
+    return s**2 / (jnp.sqrt(ae**2 + s**2) + ae)

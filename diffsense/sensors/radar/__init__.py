@@ -1,0 +1,11 @@
+"""Radar: the range equation and its relations (:mod:`diffsense.sensors.radar.equation`) and the
+registered radar chain, kind ``"radar"`` (:mod:`diffsense.sensors.radar.chain`).
+
+Public contract: :func:`snr_db` (single-pulse SNR, energy form of the radar equation).
+"""
+
+from diffsense.sensors.radar.equation import *  # noqa: F401,F403
+from diffsense.sensors.radar.equation import __all__ as _equation_all
+from diffsense.sensors.radar.chain import ATTENUATION_PARTS, CLUTTER_PARTS, OPTIONS, PARTS, RadarChain
+
+__all__ = list(_equation_all) + ["RadarChain", "PARTS", "OPTIONS", "ATTENUATION_PARTS", "CLUTTER_PARTS"]

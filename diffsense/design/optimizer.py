@@ -7,49 +7,51 @@ Steps (all catalog combinations and all starts run in one compiled call each):
    normalised objective subject to the requirements with
    :func:`diffsense.optimize.solve` (augmented Lagrangian, bounds never violated). The
    requirements are tightened by a small ``margin`` (scaled units) so that the answer meets
-   them when re-evaluated, not only to the solver's tolerance.
+   them when re-evaluated, not only to the solver's tolerance. The best start of each
+   combination goes on (:func:`diffsense.optimize.lanes.best_per_group`).
 2. **Integers.** Integer variables of the best relaxed answer of each combination are rounded
-   to their floor/ceil neighbours (:func:`diffsense.optimize.integer.rounding_candidates`);
-   the continuous rest is re-solved with the integers fixed, and the best feasible neighbour
-   is kept (neighbour verification).
-3. **Choice.** The feasible combination with the lowest objective wins. When no combination is
+   to their floor/ceil neighbours and the continuous rest is re-solved with the integers
+   pinned (:func:`diffsense.optimize.integer.integer_neighbours`); the best feasible
+   neighbour is kept (neighbour verification), or the rounded relaxed answer when none is
+   feasible.
+3. **Near misses.** Each answer is re-evaluated exactly. The solver's feasibility tolerance
+   applies to its internally scaled constraints, so an answer may miss a requirement by
+   slightly more than ``margin``; such near misses are re-solved from where they stand with
+   those limits tightened by ten times the miss, up to three times.
+4. **Choice.** The feasible combination with the lowest objective wins. When no combination is
    feasible the least-infeasible answer is returned with ``feasible`` False and the
    requirements it leaves unmet.
 
-**Compilation.** The first step's solve is traced, then compiled in a background thread
-while the model's evaluation program (the requirement reports at the end) is traced and
-compiled in this one: XLA compiles without holding Python's global interpreter lock, so the two
-compilations share the cores (see :func:`_first_solve`).
+**Lanes.** Every (start, combination) pair is one lane of :mod:`diffsense.optimize.lanes`: θ
+carries the catalog row and the requirement limits, the box pins the integers in step 2, and
+every step's lanes go through the first step's compiled program, in calls of as many lanes as
+the first step has. ``lockstep`` sets how many lanes run in one ``jax.vmap`` (module
+docstring of :mod:`diffsense.optimize.lanes`): "auto" (default) one after another on CPU and
+all in one vmap on an accelerator; a value equal to the number of combinations solves each
+start's catalog options in one vmap.
 
-**Lanes.** Every (start, combination) pair is one *lane*, and all lanes of a step are solved by
-one compiled call. ``lockstep`` sets how many lanes run in one ``jax.vmap``: a vmapped batch
-advances in lockstep, so each loop of the solve (outer and inner iterations, the line search,
-the series and root finders of the model) runs for as many trips as its slowest lane needs,
-on every lane. Groups of ``lockstep`` lanes are run one after another by ``jax.lax.map``
-inside the same program. ``lockstep="auto"`` (default) picks 1 on CPU (lanes one after
-another: the work is the sum of the lanes' own work) and None on an accelerator (every lane in
-one vmap: the device is wide and lanes run side by side). A value equal to the number of
-combinations solves each start's catalog options in one vmap. Measured on ``ore_pass.toml``
-(80 lanes, 2-core CPU, ``benchmarks/bench_design.py`` section 5): 0.68 s with ``lockstep=1``
-against 3.8 s with 10 lanes per vmap and 7.0 s with all 80 in one vmap.
+**Compilation.** The first step's solve is traced, then compiled in a background thread
+while the model's evaluation program (the requirement reports of step 3) is traced and
+compiled in this one (:func:`diffsense.optimize.compile.call_compiling_alongside`): XLA
+compiles without holding Python's global interpreter lock, so the two compilations share the
+cores.
 """
 
 from __future__ import annotations
 
-import concurrent.futures
-
 from dataclasses import dataclass
-from typing import List, Optional, Union
+from typing import List, NamedTuple, Optional, Union
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
 from diffsense.design.model import DesignModel
-from diffsense.optimize import Problem, SolverOptions, solve_batch
-from diffsense.optimize.batch import resolve_lockstep
-from diffsense.optimize.constrained import jit_with_options
-from diffsense.optimize.integer import rounding_candidates
+from diffsense.optimize import Problem, SolverOptions
+from diffsense.optimize.compile import jit_with_options
+from diffsense.optimize.integer import integer_neighbours
+from diffsense.optimize.lanes import Lanes, best_per_group, lane_program, pin_variables, solve_in_batches
+from diffsense.optimize.lanes import lane_grid as grid_of_lanes
 from diffsense.optimize.multistart import start_points
 
 
@@ -74,10 +76,11 @@ def build_problem(model: DesignModel) -> Problem:
     """The optimiser's :class:`Problem` for ``model``.
 
     θ = (catalog row, requirement limits, design vector, pinned mask). Variables whose mask is
-    True keep their value from θ's design vector whatever the solver's iterate says: the
-    objective and constraints do not depend on them, so their gradient is zero and the solver
-    leaves them alone. One compiled solve thus serves the relaxed problem (nothing pinned) and
-    the re-solve of the continuous variables with the integers pinned at a rounding candidate.
+    True keep their value from θ's design vector whatever the solver's iterate says (the
+    objective and constraints do not depend on them, so the solver leaves them alone): a way to
+    hold variables in a single solve without changing the box. :func:`optimize_design` pins
+    its integers through the box instead (its lanes take the box as an argument) and leaves the
+    mask False.
     """
     ineq = ~model.is_equality
     eq = model.is_equality
@@ -100,7 +103,7 @@ def build_problem(model: DesignModel) -> Problem:
         return residuals(full(x, theta), theta[0], theta[1])[eq]
 
     return Problem(objective, model.lower, model.upper, inequality=inequality if ineq.any() else None,
-                   equality=equality if eq.any() else None, log_scale=model.log_scale,
+                   equality=equality if eq.any() else None, log_scale=model.log_scale, integer=model.integer,
                    names=list(model.variable_names))
 
 
@@ -114,53 +117,139 @@ def _scaled_misses(model: DesignModel, report) -> np.ndarray:
     return np.array([max(-r["slack"], 0.0) / scale for r, scale in zip(report, model.scales)])
 
 
-def lane_solver(problem: Problem, options: SolverOptions, lockstep: Optional[int]):
-    """One jitted call solving rows of (x0, catalog row, limits, pinned mask), θ = (catalog row,
-    limits, x0, pinned mask) per row: :func:`diffsense.optimize.solve_batch` with ``lockstep``
-    rows per vmap (see :func:`diffsense.optimize.batch.map_in_lockstep`). The row count must be
-    a multiple of ``lockstep``."""
+def lane_solver(problem: Problem, options: SolverOptions, lockstep: Union[int, str, None]):
+    """One jitted call ``fn(x0, catalog rows, limits, lower, upper)`` solving rows of lanes:
+    :func:`diffsense.optimize.lanes.lane_program` with θ = (catalog row, limits, x0, nothing
+    pinned) per row and the row's box, ``lockstep`` rows per vmap. The row count must be a
+    multiple of a lockstep count."""
+    program = lane_program(problem, options, lockstep)
 
-    def run(x, c, l, pin):
-        return solve_batch(problem, x, (c, l, x, pin), options, lockstep)
+    def run(x0, combos, limits, lower, upper):
+        return program(x0, (combos, limits, x0, jnp.zeros(x0.shape, dtype=bool)), lower, upper)
 
     return jit_with_options(run, "optimized")
 
 
+def _lanes(model: DesignModel, x0, combo_index, limits, lower=None, upper=None) -> Lanes:
+    """Lanes from starts ``x0`` (L, n), the catalog combination of each, limits (L, r) or (r,)
+    and boxes (default the model's), θ = (catalog row, limits) as :func:`lane_solver` takes it."""
+    x0 = np.asarray(x0, dtype=float)
+    combo_index = np.asarray(combo_index, dtype=int)
+    limits = np.broadcast_to(limits, (x0.shape[0], np.shape(limits)[-1]))
+    lower = np.broadcast_to(model.lower if lower is None else lower, x0.shape)
+    upper = np.broadcast_to(model.upper if upper is None else upper, x0.shape)
+    return Lanes(x0, (model.combo_table[combo_index], limits), lower, upper, combo_index)
+
+
+def _columns(lanes: Lanes):
+    """The arguments of :func:`lane_solver` for ``lanes``."""
+    return lanes.x0, lanes.theta[0], lanes.theta[1], lanes.lower, lanes.upper
+
+
+def _grid(model: DesignModel, starts, limits) -> Lanes:
+    """Every (start, combination) lane, start-major, each combination a group."""
+    grid = grid_of_lanes(starts, None, lower=model.lower, upper=model.upper, n_groups=len(model.combinations))
+    return _lanes(model, grid.x0, grid.group, limits)
+
+
 def lane_grid(model: DesignModel, starts: np.ndarray, limits: np.ndarray):
-    """Columns (x0, catalog row, limits, pinned mask) of every (start, combination) lane,
+    """Columns (x0, catalog row, limits, lower, upper) of every (start, combination) lane,
     start-major: lanes k·n_combo … (k+1)·n_combo − 1 are start k's catalog options."""
-    n_s, n_var = starts.shape
-    n_combo = model.combo_table.shape[0]
-    x0 = np.repeat(starts[:, None, :], n_combo, axis=1).reshape(-1, n_var)
-    combos = np.tile(model.combo_table, (n_s, 1))
-    return x0, combos, np.broadcast_to(limits, (x0.shape[0], limits.size)), np.zeros(x0.shape, dtype=bool)
+    return _columns(_grid(model, starts, limits))
 
 
-def _first_solve(solver, args, model: DesignModel):
-    """``solver(*args)``, its compilation overlapped with that of the model's evaluation program
-    (needed for the requirement reports at the end): the solve is traced here, compiled in a
-    background thread (XLA compiles without holding Python's lock) while this thread traces and
-    compiles the evaluation, so the two compilations share the machine's cores. The programs
-    are the ones plain calls would compile; later calls reuse them."""
-    lowered = solver.lower(*args)
-    with concurrent.futures.ThreadPoolExecutor(max_workers=1) as pool:
-        compiling = pool.submit(lowered.compile)
-        model.compile_evaluation()
-        executable = compiling.result()
-    return executable(*args)
+class _Answers(NamedTuple):
+    """The current answer of each catalog combination (rows: combinations)."""
+
+    x: np.ndarray
+    converged: np.ndarray
+    lam: np.ndarray
 
 
-def _solve_in_batches(solver, batch: int, *columns):
-    """``solver`` over rows of ``columns`` in batches of exactly ``batch`` rows (the last one
-    padded by repeating its final row), so the compiled program of the first call is reused."""
-    n = columns[0].shape[0]
-    outs = []
-    for start in range(0, n, batch):
-        rows = np.arange(start, min(start + batch, n))
-        padded = np.concatenate([rows, np.full(batch - rows.size, rows[-1])])
-        res = solver(*(jnp.asarray(np.asarray(c)[padded]) for c in columns))
-        outs.append(jax.tree_util.tree_map(lambda a, k=rows.size: np.asarray(a)[:k], res))
-    return jax.tree_util.tree_map(lambda *a: np.concatenate(a), *outs)
+def _starts(model: DesignModel, problem: Problem, n_starts: int, seed: int) -> np.ndarray:
+    """The spec's initial design and n_starts − 1 seeded Latin-hypercube points."""
+    starts = model.initial[None, :]
+    if n_starts > 1:
+        starts = np.vstack([starts, start_points(problem, n_starts - 1, seed=seed, method="lhs")])
+    return starts
+
+
+def _relax(model: DesignModel, solver, starts, limits):
+    """Step 1: every (start, combination) lane; returns (lanes, results, answers per combination)."""
+    lanes = _grid(model, starts, limits)
+    res = solve_in_batches(solver, lanes.x0.shape[0], *_columns(lanes), alongside=model.compile_evaluation)
+    rows, _ = best_per_group(res, lanes.group, len(model.combinations))
+    return lanes, res, _Answers(res.x[rows].copy(), res.converged[rows].copy(), res.lam[rows].copy())
+
+
+def _round_integers(model: DesignModel, problem: Problem, solver, batch: int, limits, best: _Answers) -> _Answers:
+    """Step 2: the best feasible integer neighbour of each combination's answer, or the answer
+    with its integers rounded when no neighbour is feasible."""
+    if not model.integer.any():
+        return best
+    cand = integer_neighbours(problem, best.x)
+    res = solve_in_batches(solver, batch, *_columns(_lanes(model, cand.x0, cand.group, limits, cand.lower,
+                                                           cand.upper)))
+    rows, found = best_per_group(res, cand.group, len(model.combinations))
+    x, conv, lam = best.x.copy(), best.converged.copy(), best.lam.copy()
+    x[found], conv[found], lam[found] = res.x[rows[found]], res.converged[rows[found]], res.lam[rows[found]]
+    x[~found] = np.where(model.integer, np.round(x[~found]), x[~found])
+    return _Answers(x, conv, lam)
+
+
+def _resolve_near_misses(model: DesignModel, solver, batch: int, limits, best: _Answers):
+    """Step 3: re-solve answers that miss a requirement by at most 1e-3 (scaled) from where they
+    stand, integers pinned, with the missed limits tightened by ten times the miss; keep a
+    re-solve that misses less. Returns the answers and their requirement reports."""
+    x, conv, lam = best.x.copy(), best.converged.copy(), best.lam.copy()
+    reports = [model.requirement_report(x[c], model.combo_table[c]) for c in range(x.shape[0])]
+    for _ in range(3):
+        miss = np.array([_scaled_misses(model, rep) for rep in reports])
+        near = np.flatnonzero((miss.max(axis=1) > 0) & (miss.max(axis=1) <= 1e-3))
+        if near.size == 0:
+            break
+        tighter = limits[None, :] - model.sign * (10.0 * miss[near]) * model.scales * (~model.is_equality)
+        lower, upper = pin_variables(model.lower, model.upper, x[near], model.integer)
+        res = solve_in_batches(solver, batch, *_columns(_lanes(model, x[near], near, tighter, lower, upper)))
+        for j, c in enumerate(near):
+            rep = model.requirement_report(res.x[j], model.combo_table[c])
+            if _scaled_misses(model, rep).sum() < miss[c].sum():
+                x[c], reports[c], conv[c], lam[c] = res.x[j], rep, res.converged[j], res.lam[j]
+    return _Answers(x, conv, lam), reports
+
+
+def _start_statistics(relaxed, lanes: Lanes, combo: int):
+    """(starts converged, starts at the best objective) of one combination's relaxed lanes."""
+    mine = lanes.group == combo
+    f = relaxed.f[mine]
+    ok = relaxed.feasible[mine] & relaxed.converged[mine]
+    best_f = np.min(np.where(ok, f, np.inf)) if ok.any() else np.inf
+    at_best = int(np.sum(ok & (np.abs(f - best_f) <= 1e-6 * max(abs(best_f), 1e-12)))) if np.isfinite(best_f) else 0
+    return int(ok.sum()), at_best
+
+
+def _choose(model: DesignModel, best: _Answers, reports, relaxed, lanes: Lanes, n_starts: int) -> DesignOptimum:
+    """Step 4: the combination that meets every requirement at the lowest objective (the one
+    that misses least when none does), with its multi-start statistics."""
+    n_combo = best.x.shape[0]
+    met = np.array([all(r["met"] for r in rep) for rep in reports])
+    raw_obj = np.array([float(model.evaluate_all(best.x[c], model.combo_table[c])[2]) for c in range(n_combo)])
+    score = np.where(met, raw_obj, np.inf)
+    if np.isfinite(score).any():
+        k = int(np.argmin(score))
+    else:
+        k = int(np.argmin([_scaled_misses(model, rep).sum() for rep in reports]))
+    converged, at_best = _start_statistics(relaxed, lanes, k)
+    full_lam = np.zeros(len(model.requirements))
+    full_lam[~model.is_equality] = best.lam[k][: int((~model.is_equality).sum())]
+    sign = model.spec.objective.sign
+    candidates = [{"options": model.combinations[c].options, "objective": float(raw_obj[c] * sign),
+                   "feasible": bool(met[c])} for c in range(n_combo)]
+    return DesignOptimum(
+        x=best.x[k], combo_index=k, objective=float(raw_obj[k] * sign),
+        converged=bool(best.converged[k] and met[k]), feasible=bool(met[k]), multipliers=full_lam,
+        starts=n_starts, starts_converged=converged, starts_at_best=at_best,
+        unmet=[r["name"] for r in reports[k] if not r["met"]], candidates=candidates)
 
 
 def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, margin: float = 1e-7,
@@ -170,117 +259,12 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
 
     ``lockstep``: lanes per vmap (module docstring): "auto" picks by backend, None puts every
     lane of a step in one vmap, a positive count must divide the number of lanes."""
-    options = options or SolverOptions(polish=False)
-    lockstep = resolve_lockstep(lockstep)
-    n_combo = len(model.combinations)
-    limits = _tight_limits(model, margin)
     problem = build_problem(model)
-
-    starts = model.initial[None, :]
-    if n_starts > 1:
-        starts = np.vstack([starts, start_points(problem, n_starts - 1, seed=seed, method="lhs")])
-    n_s = starts.shape[0]
-    columns = lane_grid(model, starts, limits)
-    n_lanes = columns[0].shape[0]
-    solver = lane_solver(problem, options, lockstep)
-    res = _first_solve(solver, tuple(jnp.asarray(c) for c in columns), model)
-
-    def by_combo(a):  # (n_s * n_combo, ...) -> (n_combo, n_s, ...)
-        a = np.asarray(a)
-        return np.swapaxes(a.reshape((n_s, n_combo) + a.shape[1:]), 0, 1)
-
-    f = by_combo(res.f)
-    feas = by_combo(res.feasible)
-    conv = by_combo(res.converged)
-    xs = by_combo(res.x)
-    lam_all = by_combo(res.lam)
-    feas_measure = by_combo(res.kkt.feasibility)
-
-    best_rows = []
-    for c in range(n_combo):
-        score = np.where(feas[c], f[c], np.inf)
-        k = int(np.argmin(score)) if np.isfinite(score).any() else int(np.argmin(feas_measure[c]))
-        best_rows.append(k)
-
-    # integer rounding with neighbour verification
-    final_x = np.array([xs[c, best_rows[c]] for c in range(n_combo)])
-    final_f = np.array([f[c, best_rows[c]] for c in range(n_combo)])
-    final_feas = np.array([feas[c, best_rows[c]] for c in range(n_combo)])
-    final_conv = np.array([conv[c, best_rows[c]] for c in range(n_combo)])
-    final_lam = np.array([lam_all[c, best_rows[c]] for c in range(n_combo)])
-    int_idx = np.flatnonzero(model.integer)
-    if int_idx.size:
-        int_lo, int_hi = np.ceil(model.lower[int_idx]), np.floor(model.upper[int_idx])
-        cand_x, cand_c = [], []
-        for c in range(n_combo):
-            picks = np.asarray(rounding_candidates(jnp.asarray(final_x[c, int_idx]), int_lo, int_hi))
-            x = np.repeat(final_x[c][None, :], picks.shape[0], axis=0)
-            x[:, int_idx] = picks
-            cand_x.append(x)
-            cand_c.extend([c] * picks.shape[0])
-        cand_x = np.clip(np.concatenate(cand_x), model.lower, model.upper)
-        cand_c = np.array(cand_c)
-        # the same compiled solve, integers pinned at each candidate
-        pins = np.broadcast_to(model.integer, cand_x.shape)
-        r2 = _solve_in_batches(solver, n_lanes, cand_x, model.combo_table[cand_c],
-                               np.broadcast_to(limits, (cand_x.shape[0], limits.size)), pins)
-        r2_x = np.where(pins, cand_x, np.asarray(r2.x))
-        f2 = np.asarray(r2.f)
-        feas2 = np.asarray(r2.feasible)
-        for c in range(n_combo):
-            rows = np.flatnonzero(cand_c == c)
-            score = np.where(feas2[rows], f2[rows], np.inf)
-            if np.isfinite(score).any():
-                k = rows[int(np.argmin(score))]
-                final_x[c] = r2_x[k]
-                final_f[c] = f2[k]
-                final_feas[c] = True
-                final_conv[c] = bool(np.asarray(r2.converged)[k])
-                final_lam[c] = np.asarray(r2.lam)[k]
-            else:
-                final_feas[c] = False
-                final_x[c, int_idx] = np.round(final_x[c, int_idx])
-
-    # exact re-evaluation decides feasibility
-    reports = [model.requirement_report(final_x[c], model.combo_table[c]) for c in range(n_combo)]
-    # The solver's feasibility tolerance applies to its internally scaled constraints, so an
-    # answer may miss a requirement by slightly more than ``margin``. Such near misses are
-    # re-solved from where they stand with those limits tightened by ten times the miss (the
-    # same compiled program: limits are arguments), up to three times.
-    pins_all = np.broadcast_to(model.integer, final_x.shape)
-    for _ in range(3):
-        miss = np.array([_scaled_misses(model, rep) for rep in reports])
-        near = np.flatnonzero((miss.max(axis=1) > 0) & (miss.max(axis=1) <= 1e-3))
-        if near.size == 0:
-            break
-        tighter = limits[None, :] - model.sign * (10.0 * miss[near]) * model.scales * (~model.is_equality)
-        r3 = _solve_in_batches(solver, n_lanes, final_x[near], model.combo_table[near], tighter, pins_all[near])
-        for j, c in enumerate(near):
-            x_new = np.where(pins_all[c], final_x[c], np.asarray(r3.x)[j])
-            rep = model.requirement_report(x_new, model.combo_table[c])
-            if _scaled_misses(model, rep).sum() < miss[c].sum():
-                final_x[c], reports[c] = x_new, rep
-                final_conv[c] = bool(np.asarray(r3.converged)[j])
-                final_lam[c] = np.asarray(r3.lam)[j]
-    met = np.array([all(r["met"] for r in rep) for rep in reports])
-    raw_obj = np.array([float(model.evaluate_all(final_x[c], model.combo_table[c])[2]) for c in range(n_combo)])
-    score = np.where(met, raw_obj, np.inf)
-    if np.isfinite(score).any():
-        best = int(np.argmin(score))
-    else:
-        viol = [_scaled_misses(model, rep).sum() for rep in reports]
-        best = int(np.argmin(viol))
-    # multi-start statistics of the winning combination's relaxed solve
-    fb = f[best]
-    ok = feas[best] & conv[best]
-    best_f = np.min(np.where(ok, fb, np.inf)) if ok.any() else np.inf
-    at_best = int(np.sum(ok & (np.abs(fb - best_f) <= 1e-6 * max(abs(best_f), 1e-12)))) if np.isfinite(best_f) else 0
-    full_lam = np.zeros(len(model.requirements))
-    full_lam[~model.is_equality] = final_lam[best][: int((~model.is_equality).sum())]
-    candidates = [{"options": model.combinations[c].options, "objective": float(raw_obj[c] * model.spec.objective.sign),
-                   "feasible": bool(met[c])} for c in range(n_combo)]
-    return DesignOptimum(
-        x=final_x[best], combo_index=best, objective=float(raw_obj[best] * model.spec.objective.sign),
-        converged=bool(final_conv[best] and met[best]), feasible=bool(met[best]), multipliers=full_lam,
-        starts=n_s, starts_converged=int(ok.sum()), starts_at_best=at_best,
-        unmet=[r["name"] for r in reports[best] if not r["met"]], candidates=candidates)
+    solver = lane_solver(problem, options or SolverOptions(polish=False), lockstep)
+    limits = _tight_limits(model, margin)
+    starts = _starts(model, problem, n_starts, seed)
+    lanes, relaxed, best = _relax(model, solver, starts, limits)
+    batch = lanes.x0.shape[0]
+    best = _round_integers(model, problem, solver, batch, limits, best)
+    best, reports = _resolve_near_misses(model, solver, batch, limits, best)
+    return _choose(model, best, reports, relaxed, lanes, starts.shape[0])

@@ -4,17 +4,27 @@
 
 * :mod:`.problem` — :class:`Problem` (functions, bounds, variable scaling, log scaling,
   integer flags).
-* :mod:`.constrained` — :func:`solve`: PHR augmented Lagrangian over a bounded inner solve
-  (BFGS on a bounded reparameterisation run inside the outer loop by :mod:`.al_fused`, one
-  evaluation of the problem per trip; or nested: optimistix BFGS, jaxopt L-BFGS-B),
-  active-set Newton polish, least-infeasibility restoration; :func:`make_solver` for a jitted
-  solver.
-* :mod:`.sqp` — ``SolverOptions(method="sqp")``: SQP with damped BFGS, one linearisation per
-  loop trip, an ℓ1 merit line search with second-order correction; its subproblems by
-  :mod:`.active_set` (Goldfarb–Idnani dual active-set QP) and, when the linearised constraints
-  are inconsistent, as elastic QPs by :mod:`.qp` (dense interior-point QP solver).
+* :mod:`.entry` — :func:`solve` (the method chosen by :class:`SolverOptions`, from
+  :mod:`.options`; every method returns the :class:`Result` of :mod:`.result`), :func:`make_solver`
+  for a jitted solver, :func:`violation`. The methods:
+
+  * :mod:`.al` — PHR augmented Lagrangian over a bounded inner solve, active-set Newton polish,
+    least-infeasibility restoration; its inner BFGS fused into the outer loop (:mod:`.al_fused`,
+    one evaluation of the problem per trip) or nested (:mod:`.al_nested`: optimistix BFGS,
+    jaxopt L-BFGS-B);
+  * :mod:`.sqp` — ``SolverOptions(method="sqp")``: SQP with damped BFGS, one linearisation per
+    loop trip, an ℓ1 merit line search with second-order correction; its subproblems by
+    :mod:`.active_set` (Goldfarb–Idnani dual active-set QP) and, when the linearised
+    constraints are inconsistent, as elastic QPs by :mod:`.qp` (dense interior-point QP solver).
+
+  What they share: :mod:`.kernel` (scaled model, linearisation, function scales), :mod:`.kkt`
+  (KKT residuals, convergence test, active-set KKT equations and their Newton polish),
+  :mod:`.bounds` (the one "on a bound" tolerance, snapping, bound multipliers, the box
+  reparameterisation); :mod:`.compile` (XLA option presets).
 * :mod:`.sensitivity` — implicit KKT derivatives dx*/dθ, envelope df*/dθ (shadow prices),
   :func:`differentiable_solver` (custom JVP).
+* :mod:`.lanes` — many solves of one problem (starts, catalog options, integer neighbours,
+  re-solves) through one compiled program, in fixed-size batches; best lane per group.
 * :mod:`.integer` — integer variables (relax, round, verify neighbours) and catalog choices.
 * :mod:`.multistart` — scrambled Sobol / Latin hypercube starts, clustering, success rate.
 * :mod:`.batch` — vmapped sweeps over θ, sharded across devices.
@@ -22,18 +32,10 @@
 """
 
 from diffsense.optimize.problem import Problem
-from diffsense.optimize.constrained import (
-    Conflict,
-    KKTResidual,
-    Result,
-    Scales,
-    SolverOptions,
-    compiler_options,
-    jit_with_options,
-    make_solver,
-    solve,
-    violation,
-)
+from diffsense.optimize.options import SolverOptions
+from diffsense.optimize.result import Conflict, KKTResidual, Result, Scales
+from diffsense.optimize.compile import compiler_options, jit_with_options
+from diffsense.optimize.entry import make_solver, solve, violation
 from diffsense.optimize.sensitivity import (
     Sensitivity,
     Solution,
@@ -41,7 +43,14 @@ from diffsense.optimize.sensitivity import (
     kkt_sensitivity,
     shadow_prices,
 )
-from diffsense.optimize.integer import CatalogResult, MixedIntegerResult, solve_catalog, solve_mixed_integer
+from diffsense.optimize.lanes import Lanes, best_per_group, lane_grid, make_lane_solver, solve_lanes
+from diffsense.optimize.integer import (
+    CatalogResult,
+    MixedIntegerResult,
+    integer_neighbours,
+    solve_catalog,
+    solve_mixed_integer,
+)
 from diffsense.optimize.multistart import (
     MultistartResult,
     latin_hypercube,
@@ -56,7 +65,8 @@ from diffsense.optimize.batch import make_batch_solver, solve_batch
 __all__ = [
     "Problem", "SolverOptions", "Result", "KKTResidual", "Conflict", "Scales", "solve", "make_solver",
     "violation", "compiler_options", "jit_with_options", "Sensitivity", "Solution", "kkt_sensitivity", "shadow_prices",
-    "differentiable_solver", "MixedIntegerResult", "CatalogResult", "solve_mixed_integer", "solve_catalog",
+    "differentiable_solver", "Lanes", "lane_grid", "make_lane_solver", "solve_lanes", "best_per_group",
+    "MixedIntegerResult", "CatalogResult", "solve_mixed_integer", "solve_catalog", "integer_neighbours",
     "MultistartResult", "sobol_points", "latin_hypercube", "start_points", "multistart", "make_multistart",
     "run_multistart", "solve_batch", "make_batch_solver",
 ]

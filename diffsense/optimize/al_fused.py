@@ -1,11 +1,11 @@
 """The augmented-Lagrangian loop with its BFGS subproblem solver fused in (``inner="fused"``).
 
-:mod:`.constrained` describes the method: the PHR augmented Lagrangian L_ρ minimised over the
-box by BFGS on the reparameterisation z = z(y) (``_reparam``), then the multiplier, penalty
-and phase updates of :func:`.constrained.close_subproblem`. Nested, that is two loops and two
-evaluation sites: the inner solver's value and gradient of L_ρ, and the outer linearisation.
-Each site is a copy of the model in the compiled program, and on design models each copy
-costs seconds of compilation.
+:mod:`.al` describes the method: the PHR augmented Lagrangian L_ρ minimised over the box by
+BFGS on the reparameterisation z = z(y) (:func:`.bounds.box_reparameterisation`), then the
+multiplier, penalty and phase updates of :func:`.al.close_subproblem`. Nested
+(:mod:`.al_nested`), that is two loops and two evaluation sites: the inner solver's value and
+gradient of L_ρ, and the outer linearisation. Each site is a copy of the model in the
+compiled program, and on design models each copy costs seconds of compilation.
 
 Here both loops are one ``lax.while_loop`` whose every trip evaluates the problem once, by
 one forward-mode linearisation (values and n-column Jacobian of (f, g, h)) at a trial point.
@@ -46,7 +46,7 @@ is taken whatever its curvature.
 
 A subproblem ends at an accepted point whose projected gradient ‖P(z − ∇_z L_ρ) − z‖∞ is
 within its tolerance (the ALGENCAN test, and by the multiplier identity of
-:mod:`.constrained` the outer stationarity), after ``max_inner`` accepted steps, when
+:mod:`.al` the outer stationarity), after ``max_inner`` accepted steps, when
 ``max_line_search`` trials find no decrease, or when a step, accepted or tried, is too short
 to move y (α‖p‖∞ ≤ 50 ε (1 + ‖y‖∞)): the last accepted point stands. Non-finite trial values
 fail the decrease test; a subproblem whose start is not finite ends the solve at the
@@ -61,23 +61,21 @@ import jax
 import jax.numpy as jnp
 from jax import lax
 
-from diffsense.optimize.constrained import (
-    _DONE,
-    _RESTORE,
-    _SETUP,
-    _Context,
-    _dxdz,
-    _reparam,
-    _State,
-    _subproblem,
+from diffsense.optimize.al import (
+    RESTORE,
+    SETUP,
+    ALContext,
+    ALState,
     close_subproblem,
-    linearize_at,
-    physical_point,
-    pick,
-    projected_gradient_norm,
-    scales_from,
-    snap_to_bounds,
+    run_al,
+    still_running,
+    subproblem_settings,
 )
+from diffsense.optimize.bounds import box_reparameterisation, physical_point, snap_to_bounds
+from diffsense.optimize.kernel import dx_dz, linearize_at, pick, projected_gradient_norm, scales_from
+from diffsense.optimize.options import SolverOptions
+from diffsense.optimize.problem import Problem
+from diffsense.optimize.result import Result
 
 _ARMIJO = 1e-4  # sufficient-decrease constant
 _WOLFE = 0.9  # curvature constant
@@ -88,7 +86,7 @@ _CURVATURE = 1e-12  # least sᵀy / (‖s‖‖y‖) for a BFGS update
 
 
 class _Fused(NamedTuple):
-    al: _State  # outer iterate (the subproblem's start), multipliers, penalty, phase
+    al: ALState  # outer iterate (the subproblem's start), multipliers, penalty, phase
     start: jax.Array  # the next trip evaluates a subproblem's start point
     y: jax.Array  # accepted point of the subproblem (reparameterised)
     z: jax.Array
@@ -126,11 +124,11 @@ def _bfgs_update(hinv, s, y):
     return jnp.where(ok, v @ hinv @ v.T + r * jnp.outer(s, s), hinv)
 
 
-def fused_loop(ctx: _Context, state: _State) -> _State:
+def fused_loop(ctx: ALContext, state: ALState) -> ALState:
     """Run the solve from the setup state to its end; returns the final outer state."""
     problem, theta, options = ctx.problem, ctx.theta, ctx.options
     zlo, zhi, m = ctx.zlo, ctx.zhi, ctx.m
-    forward, inverse = _reparam(zlo, zhi)
+    forward, inverse = box_reparameterisation(zlo, zhi)
     n = state.z.shape[0]
     dtype = state.z.dtype
     eye = jnp.eye(n, dtype=dtype)
@@ -140,23 +138,23 @@ def fused_loop(ctx: _Context, state: _State) -> _State:
         return jax.jvp(forward, (y,), (jnp.ones_like(y),))[1]
 
     def cond(fs: _Fused):
-        return (fs.al.phase != _DONE) & (fs.al.k < options.max_outer + 1)
+        return still_running(ctx, fs.al)
 
     def body(fs: _Fused):
         s = fs.al
-        setup = s.phase == _SETUP
-        lam_e, nu_e, rho_e, w_f, eps_e = _subproblem(ctx, s)
+        setup = s.phase == SETUP
+        lam_e, nu_e, rho_e, w_f, eps_e = subproblem_settings(ctx, s)
         # a subproblem starts at the outer iterate with the variables pulled off their bounds,
         # except those the new subproblem's gradient there (from the iterate's linearisation)
         # holds on a bound: they stay on it exactly
         x_s = physical_point(problem, s.z, zlo, zhi)
-        _, gz_s = augmented_from(s.val, s.jac, _dxdz(problem, x_s), s.scales, lam_e, nu_e, rho_e, w_f, m)
+        _, gz_s = augmented_from(s.val, s.jac, dx_dz(problem, x_s), s.scales, lam_e, nu_e, rho_e, w_f, m)
         hold = ((s.z <= zlo) & (gz_s >= 0.0)) | ((s.z >= zhi) & (gz_s <= 0.0))
         y_t = jnp.where(fs.start, inverse(s.z, hold), fs.y + fs.alpha * fs.p)
         z_t = jnp.where(setup, s.z, snap_to_bounds(jnp.clip(forward(y_t), zlo, zhi), zlo, zhi))
         # the only evaluation of the problem functions in the loop
         x_t, val_t, jac_t = linearize_at(problem, theta, z_t, zlo, zhi)
-        dxdz = _dxdz(problem, x_t)
+        dxdz = dx_dz(problem, x_t)
         scales = pick(setup, scales_from(jac_t * dxdz[None, :], val_t, m, options), s.scales)
         L_t, gz_t = augmented_from(val_t, jac_t, dxdz, scales, lam_e, nu_e, rho_e, w_f, m)
         gy_t = gz_t * dz_dy(y_t)
@@ -176,7 +174,7 @@ def fused_loop(ctx: _Context, state: _State) -> _State:
         start_bad = fs.start & ~finite_t & ~setup
         # B⁻¹ carries over from one subproblem to the next (they differ in multipliers and
         # penalty only); the restoration minimises another function and starts from I
-        h_start = jnp.where(s.phase == _RESTORE, eye, fs.hinv)
+        h_start = jnp.where(s.phase == RESTORE, eye, fs.hinv)
         hinv = jnp.where(fs.start, h_start, jnp.where(accept, _bfgs_update(fs.hinv, y_t - fs.y, gy_t - fs.gy), fs.hinv))
         steps = jnp.where(fs.start, 0, fs.steps + accept.astype(fs.steps.dtype))
         y_a = jnp.where(accept, y_t, fs.y)
@@ -226,3 +224,11 @@ def fused_loop(ctx: _Context, state: _State) -> _State:
         alpha=jnp.ones((), dtype), lo=jnp.zeros((), dtype), hi=jnp.full((), jnp.inf, dtype), fails=jnp.asarray(0),
         steps=jnp.asarray(0))
     return lax.while_loop(cond, body, fs0).al
+
+
+def solve_al_fused(problem: Problem, x0, theta, options: SolverOptions) -> Result:
+    """The augmented-Lagrangian solve with the fused BFGS inner solver (module docstring)."""
+    return run_al(problem, x0, theta, options, fused_loop)
+
+
+__all__ = ["fused_loop", "solve_al_fused", "augmented_from"]

@@ -33,7 +33,10 @@ import numpy as np
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
 from diffsense.errors import DomainError
-from diffsense.optimize.constrained import Result, SolverOptions, jit_with_options, solve
+from diffsense.optimize.compile import jit_with_options
+from diffsense.optimize.entry import solve
+from diffsense.optimize.options import SolverOptions
+from diffsense.optimize.result import Result
 from diffsense.optimize.problem import Problem
 
 

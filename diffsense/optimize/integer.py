@@ -8,8 +8,9 @@ are handled by continuous relaxation and rounding with neighbour verification:
    combination (2^k candidates) when there are k ≤ ``max_enumerated`` integer variables,
    otherwise the nearest rounding plus each single variable moved one step down and up
    (1 + 2k candidates); values are clipped to the integers inside the bounds;
-3. re-solve the continuous rest with the integers fixed (bounds lower = upper = value), all
-   candidates in one vmap, warm-started from the relaxed solution;
+3. re-solve the continuous rest with the integers fixed (bounds lower = upper = value,
+   :func:`integer_neighbours`), warm-started from the relaxed solution, every candidate a lane
+   of the relaxation's compiled program (:mod:`diffsense.optimize.lanes`);
 4. keep the best feasible candidate (lowest f); if none is feasible, the least infeasible.
 
 This is a heuristic, not branch and bound: it is exact when the integer optimum lies in the
@@ -21,13 +22,18 @@ bounds the suboptimality of the answer.
 
 Catalog choices (a radar from a list of transmitters, an antenna from a product line) are
 discrete options that change the parameters θ and/or fix some variables. ``solve_catalog``
-solves every option in one vmap and returns the best feasible one.
+solves every option as a lane of one compiled program and returns the best feasible one.
+
+Both run on the host around one jitted lane program (compiled once per call; ``compile`` and
+``lockstep`` as in :func:`diffsense.optimize.lanes.make_lane_solver`) and return NumPy arrays;
+:func:`diffsense.design.optimizer.optimize_design` combines the same steps for every catalog
+combination and start of a design.
 """
 
 from __future__ import annotations
 
 import itertools
-from typing import NamedTuple
+from typing import NamedTuple, Union
 
 import jax
 import jax.numpy as jnp
@@ -35,8 +41,10 @@ import numpy as np
 
 from diffsense.errors import DomainError
 from diffsense.numerics.checks import check_range
-from diffsense.optimize.constrained import Result, SolverOptions, solve
+from diffsense.optimize.lanes import Lanes, best_per_group, make_lane_solver, pin_variables, solve_lanes, take
+from diffsense.optimize.options import SolverOptions
 from diffsense.optimize.problem import Problem, check_start
+from diffsense.optimize.result import Result
 
 
 class MixedIntegerResult(NamedTuple):
@@ -56,20 +64,6 @@ class MixedIntegerResult(NamedTuple):
     gap: jax.Array
 
 
-def _select(results: Result, i) -> Result:
-    return jax.tree_util.tree_map(lambda a: a[i], results)
-
-
-def _pick_best(results: Result):
-    """Index of the feasible result with the lowest f; the least infeasible if none."""
-    feasible = results.feasible
-    score = jnp.where(feasible, results.f, jnp.inf)
-    any_feasible = jnp.any(feasible)
-    i_feas = jnp.argmin(score)
-    i_infeas = jnp.argmin(results.kkt.feasibility)
-    return jnp.where(any_feasible, i_feas, i_infeas), any_feasible
-
-
 def rounding_candidates(relaxed_values, int_lower, int_upper, max_enumerated: int = 8):
     """Integer candidates around relaxed values r (shape (k,)), clipped to [int_lower, int_upper].
 
@@ -87,33 +81,69 @@ def rounding_candidates(relaxed_values, int_lower, int_upper, max_enumerated: in
     return jnp.clip(cand, int_lower, int_upper)
 
 
+def candidate_count(k: int, max_enumerated: int = 8) -> int:
+    """Number of rows :func:`rounding_candidates` gives for k integer variables."""
+    return 2 ** k if k <= max_enumerated else 1 + 2 * k
+
+
+def integer_neighbours(problem: Problem, x, max_enumerated: int = 8) -> Lanes:
+    """Lanes re-solving the continuous rest of each row of ``x`` (G, n) at the integer
+    candidates around it (:func:`rounding_candidates` of its integer variables, inside the
+    integers of the bounds): each lane starts at the row with its integers replaced by a
+    candidate, in ``problem``'s box with those integers pinned (lower = upper = value);
+    ``group`` is the row of ``x`` it came from, ``theta`` is None (the caller's θ of that row
+    goes there). The integer variables are ``problem.integer_indices``."""
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    idx = np.asarray(problem.integer_indices, dtype=int)
+    lower, upper = np.asarray(problem.lower), np.asarray(problem.upper)
+    int_lo, int_hi = np.ceil(lower[idx]), np.floor(upper[idx])
+    starts, source = [], []
+    for g, row in enumerate(x):
+        picks = np.asarray(rounding_candidates(jnp.asarray(row[idx]), int_lo, int_hi, max_enumerated))
+        cand = np.repeat(row[None, :], picks.shape[0], axis=0)
+        cand[:, idx] = picks
+        starts.append(cand)
+        source.extend([g] * picks.shape[0])
+    x0 = np.clip(np.concatenate(starts), lower, upper)
+    mask = np.zeros(problem.n, dtype=bool)
+    mask[idx] = True
+    lo, hi = pin_variables(lower, upper, x0, mask)
+    return Lanes(x0, None, lo, hi, np.asarray(source, dtype=int))
+
+
+def _one_row(tree):
+    """``tree`` with a leading axis of one row (None stays None)."""
+    return jax.tree_util.tree_map(lambda a: np.asarray(a)[None], tree)
+
+
 def solve_mixed_integer(problem: Problem, x0, theta=None, options: SolverOptions = SolverOptions(), *,
-                        max_enumerated: int = 8) -> MixedIntegerResult:
+                        max_enumerated: int = 8, lockstep: Union[int, str, None] = "auto",
+                        compile: str = "optimized") -> MixedIntegerResult:
     """Relax, round with neighbour verification, re-solve the continuous rest (module doc).
 
     ``problem.integer_indices`` names the integer variables (bounds of integer variables are
-    rounded inwards to integers). Jit/vmap-able; cost: one solve plus a vmapped solve over
-    2^k (or 1 + 2k) candidates."""
+    rounded inwards to integers). The relaxation and the 2^k (or 1 + 2k) candidates are lanes
+    of one compiled program, in calls of as many lanes as there are candidates."""
     check_start(problem, x0, where="solve_mixed_integer")
     idx = np.asarray(problem.integer_indices, dtype=int)
     if idx.size == 0:
         raise DomainError("solve_mixed_integer: the problem has no integer variables (Problem(integer=...))")
     check_range("max_enumerated", max_enumerated, 0, 20, where="solve_mixed_integer")
-    relaxed = solve(problem, x0, theta, options)
-    int_lo = jnp.ceil(problem.lower[idx])
-    int_hi = jnp.floor(problem.upper[idx])
-    cand = rounding_candidates(relaxed.x[idx], int_lo, int_hi, max_enumerated)
-
-    def one(values):
-        lo = problem.lower.at[idx].set(values)
-        hi = problem.upper.at[idx].set(values)
-        start = relaxed.x.at[idx].set(values)
-        return solve(problem.with_bounds(lo, hi), start, theta, options)
-
-    results = jax.vmap(one)(cand)
-    i, found = _pick_best(results)
-    best = _select(results, i)
-    return MixedIntegerResult(best, relaxed, cand, results.f, results.feasible, i, found, best.f - relaxed.f)
+    batch = candidate_count(idx.size, max_enumerated)
+    solver = make_lane_solver(problem, options, lockstep=lockstep, compile=compile)
+    theta_row = _one_row(theta)
+    start = np.asarray(x0, dtype=float)[None, :]
+    relaxed_lane = Lanes(start, theta_row, np.asarray(problem.lower)[None, :], np.asarray(problem.upper)[None, :],
+                         np.zeros(1, dtype=int))
+    relaxed = take(solve_lanes(solver, relaxed_lane, batch), 0)
+    lanes = integer_neighbours(problem, relaxed.x[None, :], max_enumerated)
+    lanes = lanes._replace(theta=take(theta_row, lanes.group))
+    results = solve_lanes(solver, lanes, batch)
+    rows, found = best_per_group(results, lanes.group, 1)
+    i = int(rows[0])
+    best = take(results, i)
+    return MixedIntegerResult(best, relaxed, lanes.x0[:, idx], results.f, results.feasible, i, bool(found[0]),
+                              best.f - relaxed.f)
 
 
 class CatalogResult(NamedTuple):
@@ -128,8 +158,9 @@ class CatalogResult(NamedTuple):
 
 
 def solve_catalog(problem: Problem, x0, option_thetas, options: SolverOptions = SolverOptions(), *,
-                  option_lower=None, option_upper=None) -> CatalogResult:
-    """Solve every catalog option in one vmap and pick the best feasible one.
+                  option_lower=None, option_upper=None, lockstep: Union[int, str, None] = "auto",
+                  compile: str = "optimized") -> CatalogResult:
+    """Solve every catalog option as a lane of one compiled program and pick the best feasible one.
 
     ``option_thetas``: pytree of parameters with a leading axis of K options (each option's θ).
     ``option_lower``/``option_upper``: optional (K, n) bounds per option (e.g. fixing the
@@ -138,17 +169,16 @@ def solve_catalog(problem: Problem, x0, option_thetas, options: SolverOptions = 
     leaves = jax.tree_util.tree_leaves(option_thetas)
     if not leaves:
         raise DomainError("solve_catalog: option_thetas must hold at least one array with a leading option axis")
-    k = leaves[0].shape[0]
-    lo = jnp.broadcast_to(problem.lower if option_lower is None else jnp.asarray(option_lower, float), (k, problem.n))
-    hi = jnp.broadcast_to(problem.upper if option_upper is None else jnp.asarray(option_upper, float), (k, problem.n))
-    x0 = jnp.broadcast_to(jnp.asarray(x0, float), (k, problem.n))
-
-    def one(start, th, l, u):
-        return solve(problem.with_bounds(l, u), start, th, options)
-
-    results = jax.vmap(one)(x0, option_thetas, lo, hi)
-    i, found = _pick_best(results)
-    return CatalogResult(_select(results, i), i, results, results.feasible, found)
+    k = int(np.shape(leaves[0])[0])
+    shape = (k, problem.n)
+    lo = np.broadcast_to(problem.lower if option_lower is None else np.asarray(option_lower, float), shape)
+    hi = np.broadcast_to(problem.upper if option_upper is None else np.asarray(option_upper, float), shape)
+    lanes = Lanes(np.broadcast_to(np.asarray(x0, float), shape), option_thetas, lo, hi, np.zeros(k, dtype=int))
+    results = solve_lanes(make_lane_solver(problem, options, lockstep=lockstep, compile=compile), lanes)
+    rows, found = best_per_group(results, lanes.group, 1)
+    i = int(rows[0])
+    return CatalogResult(take(results, i), i, results, results.feasible, bool(found[0]))
 
 
-__all__ = ["MixedIntegerResult", "CatalogResult", "solve_mixed_integer", "solve_catalog", "rounding_candidates"]
+__all__ = ["MixedIntegerResult", "CatalogResult", "solve_mixed_integer", "solve_catalog", "rounding_candidates",
+           "integer_neighbours", "candidate_count"]

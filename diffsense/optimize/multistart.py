@@ -1,7 +1,8 @@
-"""Multistart: seeded space-filling starts, one vmapped solve, clustering of the optima.
+"""Multistart: seeded space-filling starts, one compiled solve of them all, clustering of the optima.
 
 The local solver returns the KKT point reached from its start. For nonconvex design problems
-several starts are solved at once (one ``vmap``) and the optima are clustered:
+several starts are solved at once (each start a lane of one compiled program,
+:mod:`diffsense.optimize.lanes`) and the optima are clustered:
 
 * Starts are drawn in the solver's scaled coordinates (so log-scaled variables are sampled
   log-uniformly) from a scrambled Sobol sequence or a Latin hypercube, both written here in
@@ -24,7 +25,7 @@ several starts are solved at once (one ``vmap``) and the optima are clustered:
 
 from __future__ import annotations
 
-from typing import NamedTuple, Optional
+from typing import NamedTuple, Optional, Union
 
 import jax
 import jax.numpy as jnp
@@ -32,7 +33,9 @@ import numpy as np
 
 from diffsense.errors import DomainError
 from diffsense.numerics.checks import check_choice, check_range
-from diffsense.optimize.constrained import Result, SolverOptions, jit_with_options, solve
+from diffsense.optimize.lanes import best_per_group, lane_grid, make_lane_solver, solve_lanes, take
+from diffsense.optimize.options import SolverOptions
+from diffsense.optimize.result import Result
 from diffsense.optimize.problem import Problem
 
 # Joe & Kuo (2008), new-joe-kuo-6.21201: (s, a, m_1..m_s) for dimensions 2..32; dimension 1
@@ -245,32 +248,48 @@ class MultistartResult(NamedTuple):
     clusters: Clusters
 
 
-def multistart(problem: Problem, starts, theta=None, options: SolverOptions = SolverOptions(), *,
-               f_rtol: float = 1e-6, x_tol: float = 1e-4) -> MultistartResult:
-    """Solve from every row of ``starts`` (N, n) in one vmap, then cluster (module doc).
-    Pure JAX: jit it (or use :func:`make_multistart`)."""
-    starts = jnp.asarray(starts, float)
-    results = jax.vmap(lambda x: solve(problem, x, theta, options))(starts)
-    ok = results.converged & results.feasible
-    score = jnp.where(ok, results.f, jnp.inf)
-    any_ok = jnp.any(ok)
-    best_index = jnp.where(any_ok, jnp.argmin(score), jnp.argmin(results.kkt.feasibility))
-    best = jax.tree_util.tree_map(lambda a: a[best_index], results)
-    f_best = results.f[best_index]
-    success = ok & (results.f <= f_best + f_rtol * jnp.maximum(1.0, jnp.abs(f_best)))
-    z = jax.vmap(problem.to_scaled)(results.x)
-    clusters = cluster_optima(z, results.f, ok, x_tol)
+def summarize_starts(problem: Problem, starts, results: Result, *, f_rtol: float = 1e-6,
+                     x_tol: float = 1e-4) -> MultistartResult:
+    """The :class:`MultistartResult` of per-start solves ``results`` (NumPy, one row per start):
+    the best converged feasible start (the least infeasible when none is), success and rates,
+    and the clusters of the optima (module doc)."""
+    starts = np.asarray(starts, dtype=float)
     N = starts.shape[0]
-    return MultistartResult(best, best_index, results, starts, success, jnp.sum(success) / N,
-                            jnp.mean(results.converged), jnp.mean(results.feasible), clusters)
+    ok = np.asarray(results.converged) & np.asarray(results.feasible)
+    rows, _ = best_per_group(results, np.zeros(N, dtype=int), 1, ok=ok)
+    best_index = int(rows[0])
+    f = np.asarray(results.f)
+    f_best = f[best_index]
+    success = ok & (f <= f_best + f_rtol * max(1.0, abs(float(f_best))))
+    z = problem.to_scaled(jnp.asarray(results.x))
+    clusters = jax.tree_util.tree_map(np.asarray, jax.jit(cluster_optima)(z, jnp.asarray(f), jnp.asarray(ok), x_tol))
+    return MultistartResult(take(results, best_index), best_index, results, starts, success, np.sum(success) / N,
+                            np.mean(np.asarray(results.converged)), np.mean(np.asarray(results.feasible)), clusters)
 
 
 def make_multistart(problem: Problem, options: SolverOptions = SolverOptions(), *, f_rtol: float = 1e-6,
-                    x_tol: float = 1e-4, compile: str = "optimized"):
-    """Jitted ``fn(starts, theta=None) -> MultistartResult`` (compiled once per shape)."""
+                    x_tol: float = 1e-4, compile: str = "optimized", lockstep: Union[int, str, None] = "auto"):
+    """``fn(starts, theta=None) -> MultistartResult``: every row of ``starts`` (N, n) a lane of
+    one compiled program (:func:`diffsense.optimize.lanes.make_lane_solver`, compiled once per
+    N), then :func:`summarize_starts`."""
+    solver = make_lane_solver(problem, options, lockstep=lockstep, compile=compile)
+
     def run(starts, theta=None):
-        return multistart(problem, starts, theta, options, f_rtol=f_rtol, x_tol=x_tol)
-    return jit_with_options(run, compile)
+        group_theta = None if theta is None else jax.tree_util.tree_map(lambda a: np.asarray(a)[None], theta)
+        lanes = lane_grid(starts, group_theta, lower=problem.lower, upper=problem.upper)
+        results = solve_lanes(solver, lanes)
+        return summarize_starts(problem, starts, results, f_rtol=f_rtol, x_tol=x_tol)
+
+    return run
+
+
+def multistart(problem: Problem, starts, theta=None, options: SolverOptions = SolverOptions(), *,
+               f_rtol: float = 1e-6, x_tol: float = 1e-4, compile: str = "optimized",
+               lockstep: Union[int, str, None] = "auto") -> MultistartResult:
+    """Solve from every row of ``starts`` (N, n), then cluster (module doc): one use of
+    :func:`make_multistart`."""
+    return make_multistart(problem, options, f_rtol=f_rtol, x_tol=x_tol, compile=compile,
+                           lockstep=lockstep)(starts, theta)
 
 
 def run_multistart(problem: Problem, theta=None, *, n_starts: int = 32, seed: Optional[int] = 0,
@@ -282,4 +301,4 @@ def run_multistart(problem: Problem, theta=None, *, n_starts: int = 32, seed: Op
 
 
 __all__ = ["sobol_points", "latin_hypercube", "start_points", "cluster_optima", "Clusters", "MultistartResult",
-           "multistart", "make_multistart", "run_multistart", "SOBOL_MAX_DIM"]
+           "summarize_starts", "multistart", "make_multistart", "run_multistart", "SOBOL_MAX_DIM"]

@@ -66,7 +66,8 @@ class Problem(eqx.Module):
     equality: optional ``h(x, theta) -> (p,)``, feasible where every entry is 0.
     scale: typical magnitude of each variable, in its units (> 0); default from the bounds.
     log_scale: bool or (n,) bools; True solves that variable in ln(x/scale) (requires lower > 0).
-    integer: bool or (n,) bools marking integer variables (used by ``solve_mixed_integer``).
+    integer: bool or (n,) bools marking integer variables (used by ``integer_neighbours`` and
+        ``solve_mixed_integer``).
     names: optional variable names, used in reports.
 
     The functions must be pure JAX functions, finite with finite gradients inside the bounds.

@@ -26,14 +26,28 @@ df*/dθ = λ·db/dθ — e.g. with θ the required SNR in dB, df*/dθ is what on
 required SNR costs in units of f. Bound multipliers do not enter because the bounds do not
 depend on θ (put θ-dependent limits into g).
 
-The system is solved in the solver's scaled coordinates (the scales are held constant), and
-the results are mapped back to physical units. A derivative across a change of active set
+Linearising R at the solution for a perturbation with ∂(∇ₓL)/∂θ = r and ∂c_A/∂θ = c (c the
+active constraints g_A and h) gives the linear algebra every KKT sensitivity needs,
+:func:`active_set_derivative`:
+
+    [ W_FF   A_AFᵀ ] [ dy_F ]      [ r_F ]
+    [ A_AF   0     ] [ dμ_A ]  = − [ c_A ],      W = ∇²L,  A = ∂c/∂x,
+
+F the free variables and A the active constraints (dy = 0 off F, dμ = 0 off A). When as many
+constraints are active as variables are free and A_AF is nonsingular (a vertex), dy_F =
+−A_AF⁻¹ c_A needs no W. The design report (:mod:`diffsense.report.postoptimal`) calls the same
+function with its own W and A, and :func:`stationarity_multipliers` for multipliers
+recomputed from ∇F + Aᵀμ = 0.
+
+:func:`kkt_sensitivity` solves the system in the solver's scaled coordinates (the scales are
+held constant), and maps the results back to physical units. A derivative across a change of active set
 does not exist; where a constraint is weakly active (g = 0, λ = 0) the value returned is the
 one-sided derivative with that constraint kept active.
 """
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import jax
@@ -41,8 +55,11 @@ import jax.numpy as jnp
 from jax.flatten_util import ravel_pytree
 
 from diffsense.errors import DomainError
-from diffsense.optimize.constrained import Result, SolverOptions, kkt_equations, make_model, solve
+from diffsense.optimize.entry import solve
+from diffsense.optimize.kernel import make_model
+from diffsense.optimize.options import SolverOptions
 from diffsense.optimize.problem import Problem
+from diffsense.optimize.result import Result
 
 
 class Sensitivity(NamedTuple):
@@ -87,30 +104,112 @@ def _lagrangian_phys(problem: Problem, x, lam, nu, theta):
     return problem.f(x, theta) + jnp.dot(lam, problem.g(x, theta)) + jnp.dot(nu, problem.h(x, theta))
 
 
-def _tangent_map(problem: Problem, result: Result, theta, options: SolverOptions):
-    """Returns (residual-of-θ function, J_s, unpack) for the active-set KKT system."""
+def _masks(n: int, k: int, free, active):
+    free = jnp.ones((n,), bool) if free is None else jnp.asarray(free, bool)
+    active = jnp.ones((k,), bool) if active is None else jnp.asarray(active, bool)
+    return free, active
+
+
+def kkt_matrix(hessian, jacobian, free=None, active=None):
+    """The matrix of :func:`active_set_derivative`'s system, (n + k) × (n + k): W (n × n) on the
+    free variables and the constraint Jacobian A (k × n) on the active rows and free columns,
+    identity rows and columns for the other variables and constraints (``free``, ``active``:
+    boolean masks, default all). Nonsingular exactly when the reduced system is."""
+    W, A = jnp.asarray(hessian), jnp.asarray(jacobian)
+    n, k = W.shape[0], A.shape[0]
+    free, active = _masks(n, k, free, active)
+    W_m = jnp.where(free[:, None] & free[None, :], W, 0.0) + jnp.diag(jnp.where(free, 0.0, 1.0))
+    A_m = jnp.where(active[:, None] & free[None, :], A, 0.0)
+    top = jnp.concatenate([W_m, A_m.T], axis=1)
+    bottom = jnp.concatenate([A_m, jnp.diag(jnp.where(active, 0.0, 1.0))], axis=1)
+    return jnp.concatenate([top, bottom], axis=0)
+
+
+def active_set_derivative(hessian, jacobian, d_stationarity, d_constraints, *, free=None, active=None):
+    """(dy, dμ): derivative of a KKT point and its multipliers along a perturbation (module
+    docstring), by the linearised active-set KKT system.
+
+    ``hessian``: W = ∇²L (n, n), or None at a vertex (as many active constraints as free
+    variables, no masks: dy = −A⁻¹ c, and dμ is None). ``jacobian``: A = ∂c/∂y of every
+    constraint (k, n). ``d_stationarity``: r = ∂(∇L)/∂θ, shape (n, ...); ``d_constraints``:
+    c = ∂c/∂θ, shape (k, ...) (trailing axes: the perturbation directions). ``free``,
+    ``active``: masks of the free variables and active constraints (default all); dy is 0 off
+    the free variables and dμ 0 off the active constraints. Fixed shape: jit/vmap-able. A
+    singular system gives non-finite entries.
+
+    Example, min ½(y₀² + y₁²) s.t. y₀ + y₁ − b = 0, whose solution is y = (b/2, b/2) with
+    μ = −b/2 (stationarity y + μ(1, 1) = 0), so dy/db = (½, ½) and dμ/db = −½:
+
+    >>> dy, dmu = active_set_derivative(jnp.eye(2), jnp.array([[1.0, 1.0]]), jnp.zeros(2), jnp.array([-1.0]))
+    >>> [float(v) for v in dy], [float(v) for v in dmu]
+    ([0.5, 0.5], [-0.5])
+    """
+    A = jnp.asarray(jacobian)
+    r, c = jnp.asarray(d_stationarity), jnp.asarray(d_constraints)
+    k, n = A.shape
+    trailing = r.shape[1:]
+    q = math.prod(trailing)
+    r2, c2 = r.reshape((n, q)), c.reshape((k, q))
+    if hessian is None:
+        if free is not None or active is not None or n != k:
+            raise DomainError("active_set_derivative: without a Hessian the active constraints must be as many as "
+                              f"the variables (a vertex), unmasked; got {k} constraints, {n} variables")
+        return -jnp.linalg.solve(A, c2).reshape((n,) + trailing), None
+    free, active = _masks(n, k, free, active)
+    rhs = jnp.concatenate([jnp.where(free[:, None], r2, 0.0), jnp.where(active[:, None], c2, 0.0)], axis=0)
+    sol = -jnp.linalg.solve(kkt_matrix(hessian, A, free, active), rhs)
+    return sol[:n].reshape((n,) + trailing), sol[n:].reshape((k,) + trailing)
+
+
+def stationarity_multipliers(gradient, jacobian):
+    """(μ, relative residual): the least-squares multipliers of ∇F + Aᵀμ = 0 for the objective
+    gradient ``gradient`` (n,) and the active constraints' Jacobian ``jacobian`` (k, n), and
+    max|∇F + Aᵀμ| / max|∇F| (0 at a KKT point).
+
+    Example, ∇F = (1, 1) against the constraint gradient (−1, −1): μ = 1 exactly.
+
+    >>> mu, res = stationarity_multipliers(jnp.array([1.0, 1.0]), jnp.array([[-1.0, -1.0]]))
+    >>> float(mu[0]), float(res)
+    (1.0, 0.0)
+    """
+    g, A = jnp.asarray(gradient), jnp.asarray(jacobian)
+    mu = jnp.linalg.lstsq(A.T, -g)[0]
+    residual = jnp.max(jnp.abs(g + A.T @ mu), initial=0.0) / jnp.maximum(jnp.max(jnp.abs(g), initial=0.0), 1e-300)
+    return mu, residual
+
+
+def _linearised_kkt(problem: Problem, result: Result, theta, options: SolverOptions):
+    """The solver's scaled KKT system at ``result``: ``parts(z, θ) -> (∇_z L₀, (G, H))`` with the
+    multipliers held, a ``derivative(r, c)`` solving :func:`active_set_derivative` with its W
+    and A at z and the result's active set, and the map of a scaled (dz, dμ̃) to physical
+    (dx, dλ, dν)."""
     active, at_lo, at_hi = _active_masks(problem, result, options)
     z, lam, nu = _scaled_point(problem, result)
-    n, m = z.shape[0], lam.shape[0]
-    s0 = jnp.concatenate([z, lam, nu])
+    m = lam.shape[0]
     scales = jax.tree_util.tree_map(jax.lax.stop_gradient, result.scales)
 
-    def residual(s, th):
+    def parts(zz, th):
         model = make_model(problem, th, scales)
-        return kkt_equations(model, active, at_lo, at_hi, s[:n], s[n:n + m], s[n + m:])
 
-    J = jax.jacfwd(residual, argnums=0)(s0, theta)
-    dxdz = jnp.where(problem.log_scale, result.x, problem.scale)
+        def lag(y):
+            F, G, H = model.FGH(y)
+            return F + jnp.dot(lam, G) + jnp.dot(nu, H), jnp.concatenate([G, H])
+
+        return jax.grad(lag, has_aux=True)(zz)
+
+    W, A = jax.jacfwd(parts)(z, theta)
     fixed = at_lo | at_hi
+    rows = jnp.concatenate([active, jnp.ones((A.shape[0] - m,), bool)])
+    dxdz = jnp.where(problem.log_scale, result.x, problem.scale)
 
-    def unpack(ds):
-        dz = jnp.where(fixed, 0.0, ds[:n])
-        dx = dxdz * dz
-        dlam = ds[n:n + m] * scales.g / scales.f
-        dnu = ds[n + m:] * scales.h / scales.f
-        return dx, dlam, dnu
+    def derivative(r, c):
+        return active_set_derivative(W, A, r, c, free=~fixed, active=rows)
 
-    return residual, s0, J, unpack
+    def unpack(dz, dmu):
+        dx = dxdz * jnp.where(fixed, 0.0, dz)
+        return dx, dmu[:m] * scales.g / scales.f, dmu[m:] * scales.h / scales.f
+
+    return parts, z, derivative, unpack
 
 
 def shadow_prices(problem: Problem, result: Result, theta):
@@ -130,11 +229,11 @@ def kkt_sensitivity(problem: Problem, result: Result, theta,
     singular (degenerate active set) the entries are not finite."""
     if theta is None:
         raise DomainError("kkt_sensitivity: the problem has no parameters (theta is None)")
-    residual, s0, J, unpack = _tangent_map(problem, result, theta, options)
+    parts, z, derivative, unpack = _linearised_kkt(problem, result, theta, options)
     flat_theta, unravel = ravel_pytree(theta)
-    R_theta = jax.jacfwd(lambda ft: residual(s0, unravel(ft)))(flat_theta)  # (N, q)
-    ds = -jnp.linalg.solve(J, R_theta)  # (N, q)
-    dx, dlam, dnu = jax.vmap(unpack, in_axes=1, out_axes=1)(ds)
+    r, c = jax.jacfwd(lambda ft: parts(z, unravel(ft)))(flat_theta)  # (n, q), (m + p, q)
+    dz, dmu = derivative(r, c)
+    dx, dlam, dnu = jax.vmap(unpack, in_axes=1, out_axes=1)(dz, dmu)
 
     def to_tree(mat):
         # mat: (k, q) -> pytree like θ with leaves (k, *leaf.shape)
@@ -161,14 +260,14 @@ def differentiable_solver(problem: Problem, options: SolverOptions = SolverOptio
         x0, theta = primals
         _, dtheta = tangents
         r = solve(problem, x0, theta, options)
-        residual, s0, J, unpack = _tangent_map(problem, r, theta, options)
-        _, r_dot = jax.jvp(lambda th: residual(s0, th), (theta,), (dtheta,))
-        ds = -jnp.linalg.solve(J, r_dot)
-        dx, dlam, dnu = unpack(ds)
+        parts, z, derivative, unpack = _linearised_kkt(problem, r, theta, options)
+        _, (r_dot, c_dot) = jax.jvp(lambda th: parts(z, th), (theta,), (dtheta,))
+        dx, dlam, dnu = unpack(*derivative(r_dot, c_dot))
         _, df = jax.jvp(lambda th: _lagrangian_phys(problem, r.x, r.lam, r.nu, th), (theta,), (dtheta,))
         return Solution(r.x, r.f, r.lam, r.nu), Solution(dx, df, dlam, dnu)
 
     return solution
 
 
-__all__ = ["Sensitivity", "Solution", "kkt_sensitivity", "shadow_prices", "differentiable_solver"]
+__all__ = ["Sensitivity", "Solution", "kkt_sensitivity", "shadow_prices", "differentiable_solver", "kkt_matrix",
+           "active_set_derivative", "stationarity_multipliers"]

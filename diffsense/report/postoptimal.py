@@ -18,7 +18,11 @@ and the envelope theorem gives the shadow prices dF*/db_a = −μ_a. The multipl
 recomputed from the stationarity condition with the report's own derivatives (least
 squares, its residual reported) and compared with the optimiser's multipliers. When as many
 requirements are active as there are free variables and A is nonsingular (a vertex), dy/db =
-A⁻¹ and W is not needed.
+A⁻¹ and W is not needed. The linear algebra — the least-squares multipliers, the KKT system
+and its vertex case — is the optimiser's own (:mod:`diffsense.optimize.sensitivity`:
+:func:`~diffsense.optimize.sensitivity.stationarity_multipliers`,
+:func:`~diffsense.optimize.sensitivity.active_set_derivative`); this module assembles W and A
+from the report's derivatives and reads the answer.
 
 W comes from ``jax.hessian`` (forward over reverse mode) of the Lagrangian in the free
 variables only. Where a second derivative is not implemented in JAX (e.g. through
@@ -26,8 +30,9 @@ variables only. Where a second derivative is not implemented in JAX (e.g. throug
 difference of the forward-mode gradients instead, and the report says so; where both exist the
 report gives their largest difference relative to max |W| as a check.
 
-Reported per variable: ``free`` (a derivative), ``lower``/``upper`` bound (derivative 0 while
-the bound stays active), ``integer`` (held at its rounded value: derivative 0 locally, the
+Reported per variable: ``free`` (a derivative), ``lower``/``upper`` bound (on it by the
+optimiser's own test, :func:`diffsense.optimize.bounds.variables_on_bounds`, which its
+answers meet exactly; derivative 0 while the bound stays active), ``integer`` (held at its rounded value: derivative 0 locally, the
 rounding may jump), ``not_unique`` (neither the objective nor an active requirement depends
 on it to second order: the optimum is a continuum along it and has no derivative). Inactive
 requirements have derivative 0 (a small change of their limit leaves the optimum unchanged).
@@ -43,26 +48,20 @@ import jax.numpy as jnp
 import numpy as np
 
 from diffsense.design.model import DesignModel
+from diffsense.design.optimizer import build_problem
+from diffsense.optimize.bounds import variables_on_bounds
+from diffsense.optimize.sensitivity import active_set_derivative, kkt_matrix, stationarity_multipliers
 from diffsense.report.inputs import Input
 
 ACTIVE_TOL = 1e-6  # scaled residual above which an inequality counts as active
-BOUND_TOL = 1e-7  # distance to a bound, relative to the (log-)width of the box
 FLAT_TOL = 1e-9
 
 
 def _status(model: DesignModel, x) -> List[str]:
-    out = []
-    for i, _ in enumerate(model.variable_names):
-        lo, hi, xi = model.lower[i], model.upper[i], x[i]
-        if model.integer[i]:
-            out.append("integer")
-            continue
-        if model.log_scale[i]:
-            width, dlo, dhi = math.log(hi / lo), math.log(xi / lo), math.log(hi / xi)
-        else:
-            width, dlo, dhi = hi - lo, xi - lo, hi - xi
-        out.append("lower" if dlo <= BOUND_TOL * width else "upper" if dhi <= BOUND_TOL * width else "free")
-    return out
+    """Per variable: "integer", "lower"/"upper" (on that bound, by the optimiser's test) or "free"."""
+    on_lo, on_hi = variables_on_bounds(build_problem(model), x)
+    return ["integer" if model.integer[i] else "lower" if on_lo[i] else "upper" if on_hi[i] else "free"
+            for i in range(len(model.variable_names))]
 
 
 def _objective_scale(model: DesignModel, x, combo) -> float:
@@ -109,13 +108,12 @@ def post_optimal_section(model: DesignModel, inputs: List[Input], evaluator, bat
     mu = np.full(act.size, np.nan)
     stationarity = None
     if act.size and len(free):
-        mu_ls, *_ = np.linalg.lstsq(A.T, -gF, rcond=None)
-        mu = mu_ls
-        stationarity = float(np.max(np.abs(gF + A.T @ mu)) / max(float(np.max(np.abs(gF))), 1e-300))
+        mu, residual = (np.asarray(v) for v in stationarity_multipliers(gF, A))
+        stationarity = float(residual)
     obj_scale = _objective_scale(model, x, combo)
     shadow_opt = -obj_sign * lam_opt * model.sign / model.scales * obj_scale
     shadow_kkt = np.full(n_req, np.nan)
-    shadow_kkt[act] = -obj_sign * mu
+    shadow_kkt[act] = -obj_sign * mu  # envelope theorem: dF*/db = ∂L/∂b = −μ
 
     section = {
         "active": [bool(a) for a in active],
@@ -157,22 +155,22 @@ def post_optimal_section(model: DesignModel, inputs: List[Input], evaluator, bat
         section["method"] = "no active requirement on a free variable: the optimum does not move with the limits"
         return section
     Ak = A[:, keep]
+    # the active constraints are v_A(y) − b = 0: ∂(∇L)/∂b = 0 and ∂c/∂b = −I
+    r_b, c_b = np.zeros((len(keep), act.size)), -np.eye(act.size)
     try:
         if len(keep) == act.size and np.linalg.matrix_rank(Ak) == act.size:
-            dy = np.linalg.solve(Ak, np.eye(act.size))  # (keep, act)
+            dy, _ = active_set_derivative(None, Ak, r_b, c_b)  # (keep, act)
             section["method"] = "vertex: dy/db = A⁻¹ (as many active requirements as free variables)"
         else:
             if W is None:
                 raise np.linalg.LinAlgError("the Hessian of the Lagrangian is not available")
             Wk = W[np.ix_(keep, keep)]
-            K = np.block([[Wk, Ak.T], [Ak, np.zeros((act.size, act.size))]])
-            rhs = np.vstack([np.zeros((len(keep), act.size)), np.eye(act.size)])
-            cond = np.linalg.cond(K)
+            cond = np.linalg.cond(np.asarray(kkt_matrix(Wk, Ak)))
             if not np.isfinite(cond) or cond > 1e14:
                 raise np.linalg.LinAlgError(f"KKT matrix singular (condition number {cond:.3g}): degenerate active set")
-            sol = np.linalg.solve(K, rhs)
-            dy = sol[:len(keep)]
+            dy, _ = active_set_derivative(Wk, Ak, r_b, c_b)
             section["method"] = "implicit function theorem on the active-set KKT system"
+        dy = np.asarray(dy)
     except np.linalg.LinAlgError as exc:
         section["reason"] = str(exc)
         return section

@@ -16,7 +16,7 @@ import diffsense  # noqa: F401
 from diffsense.errors import DomainError
 from diffsense.optimize import SolverOptions, make_batch_solver, solve_batch
 from diffsense.optimize import reference_problems as rp
-from diffsense.optimize.constrained import jit_with_options
+from diffsense.optimize.compile import jit_with_options
 from helpers.paths import REPO
 
 

@@ -12,7 +12,6 @@ import pytest
 import diffsense  # noqa: F401
 from diffsense.errors import DomainError
 from diffsense.optimize import Problem, SolverOptions, solve_catalog, solve_mixed_integer
-from diffsense.optimize.constrained import jit_with_options
 from diffsense.optimize.integer import rounding_candidates
 
 OPTS = SolverOptions()
@@ -26,7 +25,7 @@ def test_pulses_and_power_integer_answer_closed_form():
     prob = Problem(lambda x, _: x[0] + x[1], [0.01, 1.0], [100.0, 20.0],
                    inequality=lambda x, _: jnp.array([10.0 - x[0] * x[1]]), integer=[False, True],
                    log_scale=[True, False])
-    r = jit_with_options(lambda x0: solve_mixed_integer(prob, x0, None, OPTS), "fast")(jnp.array([1.0, 1.0]))
+    r = solve_mixed_integer(prob, jnp.array([1.0, 1.0]), None, OPTS, compile="fast")
     np.testing.assert_allclose(np.asarray(r.relaxed.x), [math.sqrt(10), math.sqrt(10)], rtol=1e-9)
     assert bool(r.found)
     np.testing.assert_allclose(np.asarray(r.best.x), [10.0 / 3.0, 3.0], rtol=1e-10)
@@ -48,7 +47,7 @@ def test_two_integers_nearest_rounding_infeasible_enumeration():
     # exhaustive enumeration over the integer grid with y = x1 (independent of the solver)
     best = min(((a - 1.7) ** 2 + (b - 1.6) ** 2, a, b) for a, b in itertools.product(range(6), repeat=2)
                if a + b <= 3.2)
-    r = jit_with_options(lambda x0: solve_mixed_integer(prob, x0, None, OPTS), "fast")(jnp.zeros(3))
+    r = solve_mixed_integer(prob, jnp.zeros(3), None, OPTS, compile="fast")
     # the relaxation is the projection of (1.7, 1.6) on x1 + x2 = 3.2: (1.65, 1.55), y = 1.65
     np.testing.assert_allclose(np.asarray(r.relaxed.x), [1.65, 1.55, 1.65], atol=1e-9)
     # nearest rounding (2, 2) is infeasible; the neighbour check finds the enumerated optimum
@@ -64,8 +63,7 @@ def test_neighbour_mode_for_many_integers_separable_closed_form():
     c = np.array([0.3, 2.7, -1.4])
     prob = Problem(lambda x, _: jnp.sum((x - jnp.asarray(c)) ** 2), -4.0 * np.ones(3), 4.0 * np.ones(3),
                    integer=True)
-    run = jit_with_options(lambda x0: solve_mixed_integer(prob, x0, None, OPTS, max_enumerated=2), "fast")
-    r = run(jnp.zeros(3))
+    r = solve_mixed_integer(prob, jnp.zeros(3), None, OPTS, max_enumerated=2, compile="fast")
     assert r.candidates.shape == (7, 3)
     np.testing.assert_allclose(np.asarray(r.best.x), np.round(c), atol=1e-12)
     np.testing.assert_allclose(float(r.best.f), np.sum((np.round(c) - c) ** 2), rtol=1e-12)
@@ -83,7 +81,7 @@ def test_catalog_picks_best_feasible_option_closed_form():
     prob = Problem(lambda x, th: th[0] + (x[0] - th[1]) ** 2, -10.0, 10.0,
                    inequality=lambda x, th: jnp.array([th[2] - x[0]]))
     options = np.array([[1.0, 0.0, 1.0], [0.5, 0.0, 1.5], [0.0, 0.0, 20.0], [1.2, 3.0, -1.0]])
-    r = jit_with_options(lambda th: solve_catalog(prob, jnp.array([0.0]), th, OPTS), "fast")(jnp.asarray(options))
+    r = solve_catalog(prob, jnp.array([0.0]), jnp.asarray(options), OPTS, compile="fast")
     xk = np.maximum(options[:, 1], options[:, 2])
     fk = options[:, 0] + (xk - options[:, 1]) ** 2
     feas = options[:, 2] <= 10.0
@@ -105,9 +103,8 @@ def test_catalog_items_fixing_variables_through_bounds():
     price = np.array([0.5, 2.0, 8.0])
     lo = np.stack([power, np.full(3, 1e-9)], axis=1)
     hi = np.stack([power, np.full(3, 1e-3)], axis=1)
-    run = jit_with_options(lambda: solve_catalog(prob, jnp.array([10.0, 1e-6]), jnp.asarray(price), OPTS,
-                                                 option_lower=lo, option_upper=hi), "fast")
-    r = run()
+    r = solve_catalog(prob, jnp.array([10.0, 1e-6]), jnp.asarray(price), OPTS, option_lower=lo, option_upper=hi,
+                      compile="fast")
     fk = price + b * E / power
     np.testing.assert_allclose(np.asarray(r.results.f), fk, rtol=1e-10)
     np.testing.assert_allclose(np.asarray(r.results.x[:, 0]), power, rtol=0)

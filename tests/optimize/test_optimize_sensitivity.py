@@ -27,7 +27,7 @@ from diffsense.optimize import (
     solve,
 )
 from diffsense.optimize import reference_problems as rp
-from diffsense.optimize.constrained import jit_with_options
+from diffsense.optimize.compile import jit_with_options
 
 OPTS = SolverOptions()
 SERVO = rp.servo_bandwidth()

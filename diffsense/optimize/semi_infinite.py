@@ -1,0 +1,236 @@
+"""Semi-infinite constraints: the worst case of a smooth function over a box, differentiably.
+
+A requirement that must hold for *every* value of a parameter p in a box B (every range from
+50 m to 12 km, every target height from 3 to 30 m) is the semi-infinite constraint
+
+    min_{p ∈ B} v(θ, p) ≥ 0,
+
+v the margin (dB or scaled units) at design θ. Its value is the smallest local minimum of v over
+B, and by the envelope theorem (Danskin 1967; Still, *Lectures on semi-infinite programming*,
+2018, §2) the derivative of a local minimum value v(θ, p*(θ)) with respect to θ is ∂v/∂θ at p*:
+the minimiser's own motion does not contribute, because ∂v/∂p = 0 at an interior minimiser and p*
+stays on the face it lies on at a boundary one. So the constraint is evaluated as
+v(θ, stop_gradient(p*)) and its automatic derivative is the right one.
+
+Finding p* reliably (:func:`worst_points`), in a fixed-shape, jit/vmap-able program:
+
+1. v on a grid of the box (per dimension uniform, or uniform in log p for dimensions marked log —
+   multipath lobes and the R⁻⁴ law are both natural in log range);
+2. the grid's local minima (a point no higher than its axis neighbours; a box face counts as a
+   side with no neighbour) rank first, the other points after them by value;
+3. the ``n_worst`` best-ranked points are refined by a safeguarded Newton iteration on ∇_u v = 0
+   (u the grid coordinates: p or log p), each confined to the grid cells around its start and to
+   the box: a Newton step where the Hessian is positive definite, a steepest-descent step of one
+   cell otherwise, halved until v does not increase. A minimum between grid points is therefore
+   found to machine precision when the grid resolves the basin it lies in — a grid coarser than
+   the function's structure can miss a minimum, which is why designs are re-checked afterwards on
+   a dense grid independent of this one (:func:`dense_check`) and missed points are handed back
+   as extra candidates (``extra`` points enter step 2 as candidates).
+
+Several near-equal minima (two multipath nulls of the same depth) come back as separate points,
+so a caller can make each of them a constraint: the active set then holds both, as it must.
+Duplicates (two starts converging to one minimum) are returned as they are: identical
+constraints are harmless to the augmented Lagrangian.
+"""
+
+from __future__ import annotations
+
+from typing import Callable, NamedTuple, Sequence
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jax import lax
+
+__all__ = ["Box", "box", "worst_points", "worst_values", "dense_check", "DenseCheck"]
+
+
+class Box(NamedTuple):
+    """A box of parameters with its search grid (static: numpy arrays, hashed by identity).
+
+    ``lower``/``upper``: bounds (d,); ``log``: dimensions gridded in log p (d,) bool; ``counts``:
+    grid points per dimension (tuple of d ints)."""
+
+    lower: np.ndarray
+    upper: np.ndarray
+    log: np.ndarray
+    counts: tuple
+
+    @property
+    def dim(self) -> int:
+        return len(self.counts)
+
+    def to_u(self, p):
+        return jnp.where(self.log, jnp.log(jnp.where(self.log, p, 1.0)), p)
+
+    def from_u(self, u):
+        return jnp.where(self.log, jnp.exp(u), u)
+
+    def u_bounds(self):
+        lo = np.where(self.log, np.log(np.where(self.log, self.lower, 1.0)), self.lower)
+        hi = np.where(self.log, np.log(np.where(self.log, self.upper, 1.0)), self.upper)
+        return lo, hi
+
+    def grid(self) -> np.ndarray:
+        """The grid points (K, d) in p, C order over the dimensions."""
+        lo, hi = self.u_bounds()
+        axes = [np.linspace(lo[i], hi[i], self.counts[i]) for i in range(self.dim)]
+        mesh = np.meshgrid(*axes, indexing="ij")
+        u = np.stack([m.ravel() for m in mesh], axis=-1)
+        return np.where(self.log, np.exp(u), u)
+
+    def cell(self) -> np.ndarray:
+        """Grid spacing in u per dimension (d,)."""
+        lo, hi = self.u_bounds()
+        return (hi - lo) / np.maximum(np.asarray(self.counts) - 1, 1)
+
+
+def box(lower: Sequence[float], upper: Sequence[float], *, counts=None, log=None) -> Box:
+    """A :class:`Box` with default grids: 129 points for one dimension, 33 per dimension for two,
+    17 for three or more; log spacing where the lower bound is positive and the box spans a factor
+    of ten or more (unless ``log`` says otherwise)."""
+    lower = np.atleast_1d(np.asarray(lower, dtype=float))
+    upper = np.atleast_1d(np.asarray(upper, dtype=float))
+    if lower.shape != upper.shape or not np.all(lower < upper):
+        raise ValueError(f"a box needs lower < upper in every dimension; got {lower} and {upper}")
+    d = lower.size
+    if counts is None:
+        counts = (129,) if d == 1 else (33,) * d if d == 2 else (17,) * d
+    counts = tuple(int(c) for c in np.broadcast_to(np.asarray(counts), (d,)))
+    if any(c < 3 for c in counts):
+        raise ValueError("a box grid needs at least 3 points per dimension")
+    if log is None:
+        log = (lower > 0) & (upper >= 10.0 * lower)
+    log = np.broadcast_to(np.asarray(log, dtype=bool), (d,)).copy()
+    if np.any(log & (lower <= 0)):
+        raise ValueError("log spacing needs a positive lower bound")
+    return Box(lower, upper, log, counts)
+
+
+def _local_minimum_mask(values, counts):
+    """Grid points no higher than any of their axis neighbours (C-order grid of ``counts``)."""
+    v = values.reshape(counts)
+    mask = jnp.ones(v.shape, dtype=bool)
+    for axis in range(v.ndim):
+        ahead = jnp.concatenate([lax.slice_in_dim(v, 1, None, axis=axis),
+                                 jnp.full_like(lax.slice_in_dim(v, 0, 1, axis=axis), jnp.inf)], axis=axis)
+        behind = jnp.concatenate([jnp.full_like(lax.slice_in_dim(v, 0, 1, axis=axis), jnp.inf),
+                                  lax.slice_in_dim(v, 0, -1, axis=axis)], axis=axis)
+        mask &= (v <= ahead) & (v <= behind)
+    return mask.ravel()
+
+
+def _refine(fn_u, u0, lo, hi, cell, steps: int):
+    """Safeguarded Newton descent of ``fn_u`` from ``u0`` inside [u0 − 1.5 cell, u0 + 1.5 cell] ∩
+    [lo, hi] (module docstring)."""
+    a = jnp.maximum(lo, u0 - 1.5 * cell)
+    b = jnp.minimum(hi, u0 + 1.5 * cell)
+    grad_fn = jax.grad(fn_u)
+    hess_fn = jax.jacfwd(grad_fn)
+
+    def body(_, carry):
+        u, f = carry
+        g = grad_fn(u)
+        H = hess_fn(u)
+        g = jnp.where(jnp.isfinite(g), g, 0.0)
+        H = jnp.where(jnp.isfinite(H), H, 0.0)
+        # Newton where the Hessian is positive definite, else one cell of steepest descent
+        eig_min = jnp.min(jnp.linalg.eigvalsh(0.5 * (H + H.T)))
+        newton = -jnp.linalg.solve(jnp.where(eig_min > 0, H, jnp.eye(u.size)), g)
+        gnorm = jnp.sqrt(jnp.sum((g * cell) ** 2))
+        descent = -g * cell**2 / jnp.where(gnorm > 0, gnorm, 1.0)
+        step = jnp.where(eig_min > 0, newton, descent)
+
+        def halve(state):
+            t, _, _ = state
+            t = 0.5 * t
+            cand = jnp.clip(u + t * step, a, b)
+            return t, cand, fn_u(cand)
+
+        cand = jnp.clip(u + step, a, b)
+        t, cand, f_c = lax.while_loop(lambda s: (~(s[2] <= f)) & (s[0] > 1.0 / 1024.0), halve,
+                                      (1.0, cand, fn_u(cand)))
+        better = f_c <= f
+        return jnp.where(better, cand, u), jnp.where(better, f_c, f)
+
+    u, f = lax.fori_loop(0, steps, body, (u0, fn_u(u0)))
+    return u
+
+
+def worst_points(fn: Callable, theta, bx: Box, n_worst: int = 3, *, extra=None, newton_steps: int = 8):
+    """The ``n_worst`` lowest local minima of ``fn(theta, p)`` (p of shape (d,)) over the box ``bx``
+    and where they lie: ``(values (n_worst,), points (n_worst, d))``, sorted by value (module
+    docstring). ``theta`` is any pytree (the design); the search itself runs on
+    ``stop_gradient(theta)``, so derivatives with respect to θ flow only through the final values
+    ``fn(theta, p*)`` at the fixed points p* — the envelope theorem. ``extra``: candidate points
+    (E, d) added to the grid's (e.g. points a dense check found)."""
+    theta_s = jax.tree_util.tree_map(lax.stop_gradient, theta)
+    grid = jnp.asarray(bx.grid())
+    cands = grid if extra is None else jnp.concatenate([grid, jnp.asarray(extra, dtype=grid.dtype)], axis=0)
+    values = jax.vmap(lambda q: fn(theta_s, q))(cands)
+    finite = jnp.isfinite(values)
+    mask = _local_minimum_mask(values[: grid.shape[0]], bx.counts)
+    if extra is not None:
+        mask = jnp.concatenate([mask, jnp.ones((cands.shape[0] - grid.shape[0],), dtype=bool)])
+    # rank: local minima first (by value), then every other point (by value); non-finite last
+    span = jnp.max(jnp.where(finite, jnp.abs(values), 0.0)) + 1.0
+    score = jnp.where(finite, values, 1e300) + jnp.where(mask, 0.0, 4.0 * span)
+    _, idx = lax.top_k(-score, n_worst)
+    lo, hi = (jnp.asarray(a) for a in bx.u_bounds())
+    cell = jnp.asarray(bx.cell())
+
+    def fn_u(u):
+        return fn(theta_s, bx.from_u(u))
+
+    u_best = jax.vmap(lambda u0: _refine(fn_u, u0, lo, hi, cell, newton_steps))(bx.to_u(cands[idx]))
+    points = lax.stop_gradient(jnp.clip(bx.from_u(u_best), bx.lower, bx.upper))
+    vals = jax.vmap(lambda q: fn(theta, q))(points)
+    order = jnp.argsort(lax.stop_gradient(vals))
+    return vals[order], points[order]
+
+
+def worst_values(fn: Callable, theta, bx: Box, n_worst: int = 3, *, extra=None, newton_steps: int = 8):
+    """The values of :func:`worst_points` only."""
+    return worst_points(fn, theta, bx, n_worst, extra=extra, newton_steps=newton_steps)[0]
+
+
+class DenseCheck(NamedTuple):
+    """Outcome of :func:`dense_check`: the smallest value found and where, the number of points
+    evaluated, and the curve of values on a 1-D box (``None`` for more dimensions)."""
+
+    worst_value: float
+    worst_point: np.ndarray
+    n_points: int
+    curve_p: object
+    curve_v: object
+
+
+def dense_check(fn_batch: Callable, bx: Box, *, n_points: int = 10_001, refine: Callable = None) -> DenseCheck:
+    """Re-check a design on a dense grid independent of the solver's: ``fn_batch(P)`` evaluates the
+    margin at points P (n, d) (e.g. a compiled, vmapped evaluation); the grid has at least
+    ``n_points`` points (per dimension ⌈n^(1/d)⌉ + 1, shifted by a third of a cell against the
+    box's own grid so no point coincides with the solver's, ends included); optionally
+    ``refine(p) -> (p*, v*)`` polishes the smallest point found. Returns a :class:`DenseCheck`."""
+    d = bx.dim
+    per = int(np.ceil(n_points ** (1.0 / d))) + 1
+    lo, hi = bx.u_bounds()
+    axes = []
+    for i in range(d):
+        base = np.linspace(lo[i], hi[i], per)
+        shift = (hi[i] - lo[i]) / (per - 1) / 3.0
+        inner = np.clip(base[1:-1] + shift, lo[i], hi[i])
+        axes.append(np.concatenate([[lo[i]], inner, [hi[i]]]))
+    mesh = np.meshgrid(*axes, indexing="ij")
+    u = np.stack([m.ravel() for m in mesh], axis=-1)
+    pts = np.where(bx.log, np.exp(u), u)
+    pts = np.clip(pts, bx.lower, bx.upper)
+    vals = np.asarray(fn_batch(pts), dtype=float)
+    bad = ~np.isfinite(vals)
+    k = int(np.argmax(bad)) if bad.any() else int(np.argmin(vals))
+    worst_p, worst_v = pts[k], float(vals[k])
+    if refine is not None and not bad.any():
+        p_r, v_r = refine(worst_p)
+        if np.isfinite(v_r) and v_r < worst_v:
+            worst_p, worst_v = np.asarray(p_r, dtype=float), float(v_r)
+    curve = (pts[:, 0], vals) if d == 1 else (None, None)
+    return DenseCheck(worst_v, worst_p, int(pts.shape[0]), curve[0], curve[1])

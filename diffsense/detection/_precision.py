@@ -11,9 +11,15 @@ from __future__ import annotations
 
 import jax.numpy as jnp
 
-__all__ = ["single_precision"]
+__all__ = ["single_precision", "as_float"]
 
 
 def single_precision(x) -> bool:
     """True when ``x`` (array, scalar or dtype) is a float of 32 bits or fewer."""
     return jnp.finfo(jnp.result_type(x)).bits <= 32
+
+
+def as_float(*args):
+    """The arguments as arrays of their common floating dtype (float64 unless all are float32)."""
+    dtype = jnp.result_type(*args, float)
+    return tuple(jnp.asarray(a, dtype=dtype) for a in args)

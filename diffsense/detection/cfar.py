@@ -68,7 +68,9 @@ from jax.scipy.special import betainc, gammaln, ndtri
 
 from diffsense.errors import DomainError
 from diffsense.numerics.checks import check_choice, check_range, is_concrete
+from diffsense.numerics.db import from_db10
 from diffsense.detection import core  # the known-noise detector model
+from diffsense.detection._precision import as_float
 from diffsense.detection.required_snr import required_snr_db  # the known-noise requirement
 
 __all__ = [
@@ -84,12 +86,6 @@ _FD_REL_STEP = 1e-5
 _MAX_NEWTON = 100
 _ROOT_ITERATIONS = 40
 _SNR_BRACKET_DB = (-40.0, 100.0)
-_LN10_OVER_10 = 0.23025850929940458
-
-
-def _as_float(*args):
-    dtype = jnp.result_type(*args, float)
-    return tuple(jnp.asarray(a, dtype=dtype) for a in args)
 
 
 # --------------------------------------------------------------------------------------
@@ -224,9 +220,19 @@ def cfar_multiplier(pfa, m_cells, n=1):
 
     Source: Finn & Johnson (1968); Richards, *Fundamentals of Radar Signal Processing*,
     2nd ed., sec. 7.4; Gandhi & Kassam (1988) eq. for the CA detector.
+
+    One pulse, 16 reference cells, Pfa = 1e-6 (closed form); for N = 4 pulses the multiplier
+    returns Pfa through scipy's independent incomplete beta function:
+
+    >>> float(cfar_multiplier(1e-6, 16)), 1e-6 ** (-1 / 16) - 1
+    (1.37137, 1.37137)
+    >>> from scipy.special import betainc
+    >>> a4 = float(cfar_multiplier(1e-6, 16, 4))
+    >>> float(betainc(16 * 4, 4, 1 / (1 + a4)) / 1e-6)
+    1.0000000
     """
     _check_common("cfar_multiplier", pfa, m_cells, n)
-    pfa, m, n = jnp.broadcast_arrays(*_as_float(pfa, m_cells, n))
+    pfa, m, n = jnp.broadcast_arrays(*as_float(pfa, m_cells, n))
     return _alpha_jit(pfa, m, n)
 
 
@@ -242,11 +248,14 @@ def cfar_pfa(alpha, m_cells, n=1):
         alpha: multiplier of the reference-cell sum (> 0).
         m_cells: number of reference cells M (real >= 1).
         n: pulses integrated per cell (real >= 1).
+
+    >>> float(cfar_pfa(1.0, 10)), 2.0 ** -10    # one pulse: (1 + alpha)^(-M)
+    (0.00097656, 0.00097656)
     """
     check_range("alpha", alpha, 0.0, None, lo_open=True, where="cfar_pfa")
     check_range("m_cells", m_cells, 1.0, None, where="cfar_pfa")
     check_range("n", n, 1.0, None, where="cfar_pfa")
-    alpha, m, n = jnp.broadcast_arrays(*_as_float(alpha, m_cells, n))
+    alpha, m, n = jnp.broadcast_arrays(*as_float(alpha, m_cells, n))
     return jnp.exp(_log_pfa(alpha, m, n))
 
 
@@ -352,20 +361,27 @@ def cfar_pd(snr_db, pfa, m_cells, n=1, swerling=0):
 
     Source: Gandhi & Kassam (1988); Richards, *Fundamentals of Radar Signal Processing*,
     sec. 7.4; Brooker sec. 9.8.
+
+    Swerling 1, one pulse: Pd = (1 + alpha/(1+S))^(-M) with alpha = Pfa^(-1/M) - 1
+    (Gandhi & Kassam), evaluated in closed form:
+
+    >>> alpha = 1e-6 ** (-1 / 16) - 1
+    >>> float(cfar_pd(20.0, 1e-6, 16, 1, swerling=1)), (1 + alpha / (1 + 100.0)) ** -16
+    (0.80591, 0.80591)
     """
     where = "cfar_pd"
     check_choice("swerling", swerling, (0, 1, 2, 3, 4), where=where)
     model = _model(swerling, n)
     check_range("snr_db", snr_db, -100.0, 100.0, where=where)
     _check_common(where, pfa, m_cells, n)
-    snr_db, pfa, m, n = jnp.broadcast_arrays(*_as_float(snr_db, pfa, m_cells, n))
+    snr_db, pfa, m, n = jnp.broadcast_arrays(*as_float(snr_db, pfa, m_cells, n))
     return _cfar_pd(snr_db, pfa, m, n, model)
 
 
 @partial(jax.jit, static_argnums=4)
 def _cfar_pd(snr_db, pfa, m, n, model):
     alpha = jnp.exp(_log_alpha(jnp.log(pfa), m, n))
-    snr = jnp.exp(_LN10_OVER_10 * snr_db)
+    snr = from_db10(snr_db)
     return _pd_from_alpha(snr, alpha, m, n, model)
 
 
@@ -382,7 +398,7 @@ def _model(swerling, n):
 
 def _h(snr_db, log_alpha, m, n, model):
     """log(-log Pd): decreasing in snr_db, close to linear once Pd is near 1."""
-    pd = _pd_from_alpha(jnp.exp(_LN10_OVER_10 * snr_db), jnp.exp(log_alpha), m, n, model)
+    pd = _pd_from_alpha(from_db10(snr_db), jnp.exp(log_alpha), m, n, model)
     return jnp.log(-jnp.log(pd))
 
 
@@ -457,13 +473,19 @@ def cfar_required_snr_db(pd, pfa, m_cells, n=1, swerling=0):
 
     Returns:
         Per-pulse SNR in dB. Accuracy: that of :func:`cfar_pd` divided by its slope.
+
+    >>> import math
+    >>> alpha = 1e-6 ** (-1 / 16) - 1     # Swerling 1, one pulse: closed form
+    >>> closed = 10 * math.log10(alpha / (0.9 ** (-1 / 16) - 1) - 1)
+    >>> float(cfar_required_snr_db(0.9, 1e-6, 16, 1, swerling=1)), closed
+    (23.1507, 23.1507)
     """
     where = "cfar_required_snr_db"
     check_choice("swerling", swerling, (0, 1, 2, 3, 4), where=where)
     model = _model(swerling, n)
     _check_common(where, pfa, m_cells, n)
     _check_pd(where, pd, pfa)
-    pd, pfa, m, n = jnp.broadcast_arrays(*_as_float(pd, pfa, m_cells, n))
+    pd, pfa, m, n = jnp.broadcast_arrays(*as_float(pd, pfa, m_cells, n))
     return _required_snr_db_jit(jnp.log(pd), jnp.log(pfa), m, n, model)
 
 
@@ -490,12 +512,20 @@ def cfar_loss_db(pd, pfa, m_cells, n=1, swerling=0):
 
     Source: Richards, *Fundamentals of Radar Signal Processing*, 2nd ed., sec. 7.4 (CFAR
     loss); Gandhi & Kassam (1988); Brooker 9.9.1 (0.7 dB budgeted).
+
+    Swerling 1, one pulse, 16 reference cells, the closed form above:
+
+    >>> import math
+    >>> alpha = 1e-6 ** (-1 / 16) - 1
+    >>> closed = 10 * math.log10((alpha / (0.9 ** (-1 / 16) - 1) - 1) / (math.log(1e-6) / math.log(0.9) - 1))
+    >>> float(cfar_loss_db(0.9, 1e-6, 16, 1, swerling=1)), closed
+    (2.0071, 2.0071)
     """
     where = "cfar_loss_db"
     check_choice("swerling", swerling, (0, 1, 2, 3, 4), where=where)
     model = _model(swerling, n)
     _check_common(where, pfa, m_cells, n)
     _check_pd(where, pd, pfa)
-    pd, pfa, m, n = jnp.broadcast_arrays(*_as_float(pd, pfa, m_cells, n))
+    pd, pfa, m, n = jnp.broadcast_arrays(*as_float(pd, pfa, m_cells, n))
     s_cfar = _required_snr_db_jit(jnp.log(pd), jnp.log(pfa), m, n, model)
     return s_cfar - required_snr_db(pd, pfa, n, swerling)

@@ -393,6 +393,12 @@ def pd_given_threshold(snr_linear, threshold, n, swerling=0, *, pfa=None):
 
     Returns:
         Pd, exact to float64 round-off (see module docstring for the method).
+
+    One pulse: a Swerling 1 echo power is exponential with mean 1 + S, so Pd = exp(-T/(1+S)):
+
+    >>> import math
+    >>> float(pd_given_threshold(10.0, 13.8, 1, swerling=1)), math.exp(-13.8 / 11.0)
+    (0.285205, 0.285205)
     """
     if swerling not in SWERLING_CASES:
         raise ValueError(f"swerling must be one of {SWERLING_CASES}; got {swerling!r}")

@@ -1,10 +1,17 @@
-"""Public detection-probability functions: noncoherent, coherent, and the book's linear detector note."""
+"""Public detection-probability functions: noncoherent and coherent integration.
+
+``db_to_linear`` and ``linear_to_db`` are the public detection-layer names of
+:func:`diffsense.numerics.db.from_db10` and :func:`diffsense.numerics.db.db10` (one home of the
+dB conversions).
+"""
 
 from __future__ import annotations
 
 import jax.numpy as jnp
 
 from diffsense.numerics.checks import check_range
+from diffsense.numerics.db import db10 as linear_to_db
+from diffsense.numerics.db import from_db10 as db_to_linear
 from diffsense.detection.core import SWERLING_CASES, pd_given_threshold
 from diffsense.detection.threshold import _threshold
 
@@ -14,25 +21,6 @@ __all__ = ["pd", "pd_coherent", "db_to_linear", "linear_to_db"]
 SNR_DB_RANGE = (-50.0, 80.0)
 PFA_RANGE = (1e-300, 0.5)
 N_RANGE = (1.0, 1e4)
-
-
-_LN10_OVER_10 = 0.23025850929940456840179914546843642  # ln(10) / 10
-
-
-def db_to_linear(x_db):
-    """10^(x/10), evaluated as exp(x ln(10)/10).
-
-    The exponential is several times cheaper than a general power on CPU. The rounding of the
-    product x ln(10)/10 gives a relative error up to about |x ln(10)/10| 1.1e-16 (max 3.3e-15
-    over -90...130 dB against mpmath), the order of the error of rounding x/10 before a power.
-    """
-    x = jnp.asarray(x_db, dtype=jnp.result_type(x_db, float))
-    return jnp.exp(x * _LN10_OVER_10)
-
-
-def linear_to_db(x):
-    """10 log10(x)."""
-    return 10.0 * jnp.log10(jnp.asarray(x, dtype=jnp.result_type(x, float)))
 
 
 def _check_common(where, snr_db, pfa, n, swerling):
@@ -61,8 +49,18 @@ def pd(snr_db, pfa, n=1, swerling=0):
 
     Broadcasts over its array arguments; jit/vmap/grad-able in ``snr_db``, ``pfa`` and ``n``.
 
-    Example (DiFranco & Rubin): Pd = 0.9 at Pfa 1e-6 for one pulse needs 13.18 dB (steady)
-    and 21.14 dB (Swerling 1).
+    Examples: DiFranco & Rubin's classic point, Pd = 0.9 at Pfa = 1e-6 with one pulse, needs
+    13.18 dB for a steady target and 21.14 dB for Swerling 1. For one pulse on a steady target
+    2Y is noncentral chi-square with 2 degrees of freedom and noncentrality 2S under the
+    threshold 2T = -2 ln Pfa (Marcum's Q function; scipy's independent implementation is the
+    check), and Swerling 1 has the closed form Pd = Pfa^(1/(1+S)):
+
+    >>> import math
+    >>> from scipy.stats import ncx2
+    >>> float(pd(13.18, 1e-6)), float(ncx2.sf(-2 * math.log(1e-6), 2, 2 * 10 ** 1.318))
+    (0.8995, 0.8995)
+    >>> float(pd(21.14, 1e-6, 1, swerling=1)), 1e-6 ** (1 / (1 + 10 ** 2.114))
+    (0.89992, 0.89992)
     """
     _check_common("pd", snr_db, pfa, n, swerling)
     dtype = jnp.result_type(snr_db, pfa, n, float)
@@ -80,6 +78,11 @@ def pd_coherent(snr_db, pfa, n=1, swerling=0):
     decision follows: ``pd(snr_db + 10 log10 N, pfa, 1, swerling)``. This holds for a target
     whose echo keeps its phase over the N pulses: steady (0) or scan-to-scan fluctuating (1, 3).
     Pulse-to-pulse decorrelated echoes (2, 4) do not add coherently; asking for them raises.
+
+    Ten coherent pulses of 3.18 dB give the 13.18 dB of one pulse (10 log10 10 = 10 dB):
+
+    >>> float(pd_coherent(3.18, 1e-6, 10)), float(pd(13.18, 1e-6))
+    (0.8995, 0.8995)
     """
     if swerling in (2, 4):
         raise ValueError(

@@ -38,8 +38,9 @@ from jax.scipy.special import ndtri
 
 from diffsense.errors import DomainError
 from diffsense.numerics.checks import check_range, is_concrete
+from diffsense.numerics.db import DB_PER_NEPER, db10, from_db10
 from diffsense.detection.core import SWERLING_CASES, _chunked, _mixture_sum, pd_given_threshold
-from diffsense.detection.probability import N_RANGE, PFA_RANGE, db_to_linear, linear_to_db
+from diffsense.detection.probability import N_RANGE, PFA_RANGE
 from diffsense.detection.threshold import _threshold
 
 __all__ = [
@@ -61,19 +62,19 @@ _MAX_ITER = 60
 
 def _pd_and_slope(x_db, t, n, pfa, swerling):
     """Pd and dPd/dx (x in dB) at fixed threshold."""
-    snr = db_to_linear(x_db)
+    snr = from_db10(x_db)
     if swerling == 2:
         f = lambda s: jax.scipy.special.gammaincc(n, t / (1.0 + s))
         p, dp = jax.jvp(f, (snr,), (jnp.ones_like(snr),))
     else:
         p, (dp, _, _) = _mixture_sum(snr, t, n, pfa, swerling, with_partials="snr")
-    return p, dp * snr * (jnp.log(10.0) / 10.0)
+    return p, dp * snr / DB_PER_NEPER
 
 
 def _solve(pd_t, pfa, n, swerling):
     t = _threshold(pfa, n)
     if swerling == 2:
-        return linear_to_db(t / _threshold(pd_t, n) - 1.0)
+        return db10(t / _threshold(pd_t, n) - 1.0)
     x0 = _start(pd_t, pfa, n, swerling)
     z_t = ndtri(pd_t)
 
@@ -109,7 +110,7 @@ def _start(pd_t, pfa, n, swerling):
 
 
 def _pd_db(x_db, pfa, n, swerling):
-    return pd_given_threshold(db_to_linear(x_db), _threshold(pfa, n), n, swerling, pfa=pfa)
+    return pd_given_threshold(from_db10(x_db), _threshold(pfa, n), n, swerling, pfa=pfa)
 
 
 @partial(jax.custom_jvp, nondiff_argnums=(3,))
@@ -144,6 +145,18 @@ def required_snr_db(pd, pfa, n=1, swerling=0, method="exact"):
     Returns:
         The detectability factor in dB. Exact method: within 1e-9 dB of a 40-digit mpmath
         inversion (tests/test_detection_accuracy.py); differentiable implicitly in pd, pfa, n.
+
+    Examples: DiFranco & Rubin's tables (reproduced by Skolnik) give 13.18 dB for a steady
+    target at Pd = 0.9, Pfa = 1e-6, one pulse. Swerling 1 with one pulse has the closed form
+    Pd = Pfa^(1/(1+S)), i.e. S = ln Pfa / ln Pd - 1 (the tables' 21.14 dB):
+
+    >>> import math
+    >>> float(required_snr_db(0.9, 1e-6))
+    13.18
+    >>> s1 = float(required_snr_db(0.9, 1e-6, 1, swerling=1))
+    >>> closed = 10 * math.log10(math.log(1e-6) / math.log(0.9) - 1)
+    >>> s1, closed, abs(s1 - closed) < 1e-9
+    (21.1436, 21.1436, True)
     """
     where = "required_snr_db"
     if swerling not in SWERLING_CASES:
@@ -174,6 +187,12 @@ def albersheim_snr_db(pd, pfa, n=1):
     Domain (Albersheim 1981): 1e-7 <= pfa <= 1e-3, 0.1 <= pd <= 0.9, 1 <= n <= 8096. Measured
     error against the exact square-law value: ≤ 0.29 dB for pd >= 0.5, up to 4.08 dB at
     pd = 0.1 (see the module docstring).
+
+    At DiFranco & Rubin's Pd = 0.9, Pfa = 1e-6, N = 1 (13.18 dB) it is within Albersheim's
+    stated 0.2 dB:
+
+    >>> abs(float(albersheim_snr_db(0.9, 1e-6)) - 13.18) < 0.2
+    True
     """
     where = "albersheim_snr_db"
     check_range("pd", pd, 0.1, 0.9, where=where)
@@ -191,6 +210,17 @@ def shnidman_snr_db(pd, pfa, n=1, swerling=0):
 
     Domain: 0.1 <= pd <= 0.99, 1e-9 <= pfa <= 1e-3, 1 <= n <= 100. Measured error against the
     exact value up to 0.30 dB (Swerling 0) and 1.04 dB (Swerling 1, 2); module docstring.
+
+    Against the published 13.18 dB (steady) and the Swerling 1 closed form
+    10 log10(ln Pfa / ln Pd - 1) = 21.14 dB at Pd = 0.9, Pfa = 1e-6, N = 1, within Shnidman's
+    stated 0.5 dB:
+
+    >>> import math
+    >>> abs(float(shnidman_snr_db(0.9, 1e-6)) - 13.18) < 0.5
+    True
+    >>> closed = 10 * math.log10(math.log(1e-6) / math.log(0.9) - 1)
+    >>> abs(float(shnidman_snr_db(0.9, 1e-6, 1, swerling=1)) - closed) < 0.5
+    True
     """
     where = "shnidman_snr_db"
     if swerling not in SWERLING_CASES:
@@ -219,12 +249,15 @@ def _shnidman(pd, pfa, n, swerling):
         c1 = (((17.7006 * pd - 18.4496) * pd + 14.5339) * pd - 3.525) / k
         c2 = (1.0 / k) * (jnp.exp(27.31 * pd - 25.14) + (pd - 0.8) * (0.7 * jnp.log(1e-5 / pfa) + (2.0 * n - 20.0) / 80.0))
         c_db = jnp.where(pd <= 0.872, c1, c1 + c2)
-    x1 = 10.0 ** (c_db / 10.0) * x_inf / n
-    return 10.0 * jnp.log10(x1)
+    return c_db + db10(x_inf / n)
 
 
 def book_integration_gain_db(n):
-    """The book's postdetection integration gain rule, 10 log10(N^0.8) = 8 log10 N dB (Brooker 8.16.13)."""
+    """The book's postdetection integration gain rule, 10 log10(N^0.8) = 8 log10 N dB (Brooker 8.16.13).
+
+    >>> float(book_integration_gain_db(10.0))   # 10 log10(10^0.8)
+    8.0
+    """
     check_range("n", n, 1.0, None, where="book_integration_gain_db")
     return 8.0 * jnp.log10(jnp.asarray(n, dtype=jnp.result_type(n, float)))
 
@@ -235,6 +268,9 @@ def book_pulses_for_integration_gain(gain_db, detector="square_law"):
     ``detector="sdla"`` adds the book's 7 extra pulses for the linear (SDLA) detector.
     Ore pass: 7.7 dB -> 10^(7.7/8) = 9.18 -> 9 pulses; with SDLA 16 (Brooker 8.16.13).
     Returns a float (the rounded count) so the function can be traced; not differentiable.
+
+    >>> float(book_pulses_for_integration_gain(7.7)), float(book_pulses_for_integration_gain(7.7, "sdla"))
+    (9.0, 16.0)
     """
     if detector not in ("square_law", "sdla"):
         raise ValueError(f"detector must be 'square_law' or 'sdla'; got {detector!r}")

@@ -63,12 +63,11 @@ import jax
 import jax.numpy as jnp
 
 from diffsense.detection._bounds import tail_exponent, tight_upper_bound, window_bounds
-from diffsense.detection._logpmf import bd0_wide, stirlerr
+from diffsense.detection._logpmf import _HALF_LOG_2PI, bd0_wide, stirlerr
 from diffsense.detection._precision import single_precision
 
 __all__ = ["steady_pd", "log_poisson_pmf_at_integer"]
 
-_HALF_LOG_2PI = 0.9189385332046727417803297364056176
 _PI_50 = "3.14159265358979323846264338327950288419716939937510"
 
 

@@ -25,6 +25,7 @@ from jax.scipy.special import gammaincc, ndtri
 
 from diffsense.numerics.checks import check_range
 from diffsense.detection._logpmf import log_poisson_pmf
+from diffsense.detection._precision import as_float
 
 __all__ = [
     "threshold",
@@ -124,20 +125,36 @@ def threshold(pfa, n=1):
     Returns:
         ``T`` with ``Q(n, T) = pfa`` (dimensionless, in units of the mean noise power of one pulse).
 
-    Example: one pulse, Pfa = 1e-10 gives T = 23.03, so the envelope threshold for noise
-    variance psi = 1 V^2 is sqrt(2 T) = 6.79 V (Brooker 9.2.2).
+    Examples: one pulse, Pfa = 1e-10 gives T = -ln Pfa = 23.03, so the envelope threshold for
+    noise variance psi = 1 V^2 is sqrt(2 T) = 6.79 V (Brooker 9.2.2 prints both numbers). For
+    N pulses the threshold returns Pfa through scipy's independent incomplete gamma function:
+
+    >>> float(threshold(1e-10))
+    23.03
+    >>> float((2.0 * threshold(1e-10)) ** 0.5)
+    6.79
+    >>> from scipy.special import gammaincc
+    >>> float(gammaincc(10.0, float(threshold(1e-6, 10))) / 1e-6)
+    1.0000000
     """
     check_range("pfa", pfa, 1e-300, 1.0, hi_open=True, where="threshold")
     check_range("n", n, 1.0, None, where="threshold")
-    pfa, n = jnp.broadcast_arrays(*_as_float(pfa, n))
+    pfa, n = jnp.broadcast_arrays(*as_float(pfa, n))
     return _threshold(pfa, n)
 
 
 def pfa_from_threshold(threshold_value, n=1):
-    """False-alarm probability ``Q(n, T)`` for a threshold ``T`` on ``Y ~ Gamma(n, 1)``."""
+    """False-alarm probability ``Q(n, T)`` for a threshold ``T`` on ``Y ~ Gamma(n, 1)``.
+
+    For one pulse Q(1, T) = exp(-T) (exponential noise power):
+
+    >>> import math
+    >>> float(pfa_from_threshold(5.0)), math.exp(-5.0)
+    (0.006737947, 0.006737947)
+    """
     check_range("threshold_value", threshold_value, 0.0, None, where="pfa_from_threshold")
     check_range("n", n, 1.0, None, where="pfa_from_threshold")
-    t, n = _as_float(threshold_value, n)
+    t, n = as_float(threshold_value, n)
     return gammaincc(n, t)
 
 
@@ -147,29 +164,39 @@ def voltage_threshold(pfa, noise_variance_v2=1.0):
     Args:
         pfa: single-sample false-alarm probability, 0 < pfa < 1.
         noise_variance_v2: noise voltage variance psi at the IF filter output (V^2).
+
+    >>> float(voltage_threshold(1e-10, 1.0))   # Brooker 9.2.2: 6.79 V
+    6.79
     """
     check_range("pfa", pfa, 0.0, 1.0, lo_open=True, hi_open=True, where="voltage_threshold")
     check_range("noise_variance_v2", noise_variance_v2, 0.0, None, lo_open=True, where="voltage_threshold")
-    pfa, psi = _as_float(pfa, noise_variance_v2)
+    pfa, psi = as_float(pfa, noise_variance_v2)
     return jnp.sqrt(-2.0 * psi * jnp.log(pfa))
 
 
 def pfa_from_false_alarm_time(false_alarm_time_s, bandwidth_hz):
-    """Pfa = 1 / (Tfa * beta): one independent noise sample per 1/beta seconds (Brooker eq. 9.15)."""
+    """Pfa = 1 / (Tfa * beta): one independent noise sample per 1/beta seconds (Brooker eq. 9.15).
+
+    Brooker 9.9.1: Tfa = 9 h with beta = 0.613 / 2 us gives the book's Pfa of 1e-10:
+
+    >>> float(pfa_from_false_alarm_time(9 * 3600.0, 0.613 / 2e-6))
+    1.0e-10
+    """
     check_range("false_alarm_time_s", false_alarm_time_s, 0.0, None, lo_open=True, where="pfa_from_false_alarm_time")
     check_range("bandwidth_hz", bandwidth_hz, 0.0, None, lo_open=True, where="pfa_from_false_alarm_time")
-    tfa, b = _as_float(false_alarm_time_s, bandwidth_hz)
+    tfa, b = as_float(false_alarm_time_s, bandwidth_hz)
     return 1.0 / (tfa * b)
 
 
 def false_alarm_time_s(pfa, bandwidth_hz):
-    """Mean time between false alarms Tfa = 1 / (Pfa * beta) in seconds (Brooker eq. 9.15)."""
+    """Mean time between false alarms Tfa = 1 / (Pfa * beta) in seconds (Brooker eq. 9.15).
+
+    Brooker 9.2.2: Pfa = 1e-10 with the matched bandwidth 1/(0.3 us) gives 3.0e3 s (50 min):
+
+    >>> float(false_alarm_time_s(1e-10, 1.0 / 0.3e-6)) / 60.0
+    50.0
+    """
     check_range("pfa", pfa, 0.0, 1.0, lo_open=True, hi_open=True, where="false_alarm_time_s")
     check_range("bandwidth_hz", bandwidth_hz, 0.0, None, lo_open=True, where="false_alarm_time_s")
-    p, b = _as_float(pfa, bandwidth_hz)
+    p, b = as_float(pfa, bandwidth_hz)
     return 1.0 / (p * b)
-
-
-def _as_float(*args):
-    dtype = jnp.result_type(*args, float)
-    return tuple(jnp.asarray(a, dtype=dtype) for a in args)

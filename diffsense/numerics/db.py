@@ -16,15 +16,15 @@ over −90…130 dB against mpmath), the order of the error of rounding x/10 bef
 
 from __future__ import annotations
 
-import math
-
 import jax.numpy as jnp
 
 __all__ = ["DB_PER_NEPER", "db10", "db20", "from_db10", "from_db20", "power_sum_db", "increment_db"]
 
-#: 10 / ln 10: dB per neper of a power ratio (10 log10 x = DB_PER_NEPER · ln x).
-DB_PER_NEPER = 10.0 / math.log(10.0)
-_NEPER_PER_DB = math.log(10.0) / 10.0
+#: 10 / ln 10 = 4.3429: dB per neper of a power ratio (10 log10 x = DB_PER_NEPER · ln x).
+#: Both constants are written to 36 digits so that they are the correctly rounded doubles
+#: (``10 / math.log(10)`` and ``math.log(10) / 10`` are each one unit in the last place off).
+DB_PER_NEPER = 4.34294481903251827651128918916605082
+_NEPER_PER_DB = 0.230258509299404568401799145468436421  # ln 10 / 10
 
 
 def _float(x):
@@ -57,5 +57,11 @@ def power_sum_db(a_db, b_db):
 
 
 def increment_db(x_db):
-    """10 log10(1 + 10^(x/10)): the rise of a level when a second one x dB above it is added."""
+    """10 log10(1 + 10^(x/10)): the rise of a level when a second one x dB above it is added.
+
+    >>> float(increment_db(0.0))     # an equal level doubles the power: 10 log10 2
+    3.0103
+    >>> float(increment_db(-10.0))   # a level 10 dB below: 10 log10 1.1
+    0.4139
+    """
     return jnp.logaddexp(0.0, _NEPER_PER_DB * _float(x_db)) / _NEPER_PER_DB

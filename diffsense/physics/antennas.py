@@ -19,6 +19,7 @@ import math
 import jax.numpy as jnp
 
 from diffsense.numerics.checks import check_range
+from diffsense.numerics.db import db10
 from diffsense.physics.constants import SPEED_OF_LIGHT_M_S
 
 __all__ = [
@@ -61,6 +62,11 @@ def wavelength_m(freq_hz, propagation_speed_m_s=SPEED_OF_LIGHT_M_S):
         freq_hz: frequency, Hz. Domain (0, inf).
         propagation_speed_m_s: wave speed, m/s (c for EM; about 340 in air and 1500 in
             sea water for sound). Domain (0, inf). The book uses c = 3e8 m/s.
+
+    >>> float(wavelength_m(94e9, 3e8))      # the book's 94 GHz radar (8.16): 3.19 mm
+    0.00319
+    >>> float(wavelength_m(40e3, 340.0))    # 40 kHz ultrasound in air: 340/40e3
+    0.0085
     """
     where = "wavelength_m"
     check_range("freq_hz", freq_hz, 0.0, None, lo_open=True, where=where)
@@ -69,7 +75,12 @@ def wavelength_m(freq_hz, propagation_speed_m_s=SPEED_OF_LIGHT_M_S):
 
 
 def circular_aperture_area_m2(diameter_m):
-    """Physical area of a circular aperture ``pi d^2 / 4``, m^2. Domain d in (0, inf)."""
+    """Physical area of a circular aperture ``pi d^2 / 4``, m^2. Domain d in (0, inf).
+
+    >>> import math
+    >>> float(circular_aperture_area_m2(0.25)), math.pi * 0.125**2
+    (0.0490874, 0.0490874)
+    """
     check_range("diameter_m", diameter_m, 0.0, None, lo_open=True, where="circular_aperture_area_m2")
     d = jnp.asarray(diameter_m)
     return 0.25 * jnp.pi * d * d
@@ -87,6 +98,11 @@ def gain_from_aperture(area_m2, wavelength_m, efficiency=1.0):
         efficiency: aperture efficiency rho. Domain (0, 1].
 
     Source: Brooker eq. 5.11 (used in 8.16.9: 250 mm, rho = 0.7, 94 GHz -> 42,432 = 46.2 dB).
+
+    The book's numbers follow with its rounded wavelength 3.19 mm (exact c gives 42,451):
+
+    >>> float(gain_from_aperture(circular_aperture_area_m2(0.25), 3.19e-3, 0.7))
+    4.2432e4
     """
     where = "gain_from_aperture"
     check_range("area_m2", area_m2, 0.0, None, lo_open=True, where=where)
@@ -97,9 +113,13 @@ def gain_from_aperture(area_m2, wavelength_m, efficiency=1.0):
 
 
 def gain_db(gain):
-    """Linear power ratio to dB: ``10 log10 G``. Domain G in (0, inf)."""
+    """Linear power ratio to dB: ``10 log10 G`` (:func:`diffsense.numerics.db.db10`). Domain G in (0, inf).
+
+    >>> float(gain_db(42432.0))   # Brooker 8.16.9: 42,432 is 46.28 dB (printed 46.2)
+    46.28
+    """
     check_range("gain", gain, 0.0, None, lo_open=True, where="gain_db")
-    return 10.0 / math.log(10.0) * jnp.log(jnp.asarray(gain))
+    return db10(gain)
 
 
 def aperture_area_from_gain_m2(gain, wavelength_m, efficiency=1.0):
@@ -107,6 +127,10 @@ def aperture_area_from_gain_m2(gain, wavelength_m, efficiency=1.0):
 
     Inverse of :func:`gain_from_aperture`. Args: gain (linear, (0, inf)), wavelength_m
     ((0, inf)), efficiency ((0, 1]).
+
+    >>> import math
+    >>> float(aperture_area_from_gain_m2(1000.0, 0.03, 0.6)), 1000.0 * 0.03**2 / (4 * math.pi * 0.6)
+    (0.119366, 0.119366)
     """
     where = "aperture_area_from_gain_m2"
     check_range("gain", gain, 0.0, None, lo_open=True, where=where)
@@ -120,6 +144,12 @@ def effective_aperture_m2(gain, wavelength_m):
     """Effective (capture) aperture ``A_e = G lambda^2 / (4 pi) = rho A``, m^2.
 
     Args: gain (linear, (0, inf)), wavelength_m ((0, inf)). Exact by reciprocity.
+
+    An isotropic antenna (G = 1) captures lambda^2 / (4 pi):
+
+    >>> import math
+    >>> float(effective_aperture_m2(1.0, 0.1)), 0.1**2 / (4 * math.pi)
+    (0.000795775, 0.000795775)
     """
     where = "effective_aperture_m2"
     check_range("gain", gain, 0.0, None, lo_open=True, where=where)
@@ -139,6 +169,12 @@ def beamwidth_rad(wavelength_m, aperture_m, factor=UNIFORM_RECTANGULAR_BEAMWIDTH
         wavelength_m: wavelength, m. Domain (0, inf).
         aperture_m: aperture dimension in the plane of the beamwidth, m. Domain (0, inf).
         factor: beamwidth constant k. Domain (0, 3].
+
+    A 1 m uniform line aperture at 3 cm: 0.886 x 0.03 rad = 1.52 deg (Skolnik 9.2):
+
+    >>> import math
+    >>> math.degrees(float(beamwidth_rad(0.03, 1.0)))
+    1.523
     """
     where = "beamwidth_rad"
     check_range("wavelength_m", wavelength_m, 0.0, None, lo_open=True, where=where)
@@ -153,6 +189,9 @@ def beamwidth_book_deg(wavelength_m, diameter_m):
     Source: Brooker 8.16.7 (ore pass: 250 mm at 94 GHz -> 0.89 deg). Equivalent to
     :func:`beamwidth_rad` with k = 70 pi/180 = 1.222 (a moderately tapered aperture).
     Args: wavelength_m ((0, inf)), diameter_m ((0, inf)).
+
+    >>> float(beamwidth_book_deg(3e8 / 94e9, 0.25))   # Brooker 8.16.7: 0.89 deg
+    0.89
     """
     where = "beamwidth_book_deg"
     check_range("wavelength_m", wavelength_m, 0.0, None, lo_open=True, where=where)
@@ -165,6 +204,9 @@ def aperture_diameter_for_beamwidth_book_m(wavelength_m, beamwidth_deg):
 
     Source: Brooker 8.16.7 (1.1 deg at 94 GHz -> about 0.2 m; 1 m ultrasound transducer
     -> lambda <= 0.016 m in 8.16.2). Args: wavelength_m ((0, inf)), beamwidth_deg ((0, 180]).
+
+    >>> float(aperture_diameter_for_beamwidth_book_m(3e8 / 94e9, 1.1))   # Brooker 8.16.7: about 0.2 m
+    0.2
     """
     where = "aperture_diameter_for_beamwidth_book_m"
     check_range("wavelength_m", wavelength_m, 0.0, None, lo_open=True, where=where)
@@ -193,6 +235,10 @@ def directivity_from_beamwidths_deg(beamwidth_az_deg, beamwidth_el_deg):
     The book writes 57.3^2 for (180/pi)^2 (eq. 12.43: 1.5 x 60 deg -> 458.4; the exact
     conversion gives 458.37). Same approximation as :func:`directivity_from_beamwidths`.
     Args: beamwidths, degrees. Domain (0, 180].
+
+    >>> import math
+    >>> float(directivity_from_beamwidths_deg(1.5, 60.0)), 4 * math.pi / (math.radians(1.5) * math.radians(60.0))
+    (458.37, 458.37)
     """
     where = "directivity_from_beamwidths_deg"
     check_range("beamwidth_az_deg", beamwidth_az_deg, 0.0, 180.0, lo_open=True, where=where)
@@ -201,9 +247,13 @@ def directivity_from_beamwidths_deg(beamwidth_az_deg, beamwidth_el_deg):
 
 
 def directivity_index_db(directivity):
-    """Sonar directivity index ``DI = 10 log10 G``, dB (Brooker 12.8). Domain G in (0, inf)."""
+    """Sonar directivity index ``DI = 10 log10 G``, dB (Brooker 12.8). Domain G in (0, inf).
+
+    >>> float(directivity_index_db(100.0))
+    20.0
+    """
     check_range("directivity", directivity, 0.0, None, lo_open=True, where="directivity_index_db")
-    return 10.0 / math.log(10.0) * jnp.log(jnp.asarray(directivity))
+    return db10(directivity)
 
 
 def phased_array_gain(area_m2, wavelength_m, scan_angle_rad, efficiency=1.0):
@@ -219,6 +269,12 @@ def phased_array_gain(area_m2, wavelength_m, scan_angle_rad, efficiency=1.0):
         efficiency: aperture efficiency. Domain (0, 1].
 
     Source: Brooker eqs 12.29-12.30.
+
+    At 60 deg the projected aperture, and the gain, halve (cos 60 deg = 1/2):
+
+    >>> import math
+    >>> float(phased_array_gain(1.0, 0.03, math.pi / 3) / phased_array_gain(1.0, 0.03, 0.0))
+    0.5
     """
     where = "phased_array_gain"
     check_range("scan_angle_rad", scan_angle_rad, -0.5 * math.pi, 0.5 * math.pi, where=where)
@@ -259,6 +315,12 @@ def grating_lobe_free_spacing_m(wavelength_m, max_scan_angle_rad):
     d/lambda = 0.5 gives no grating lobes at any scan.)
 
     Args: wavelength_m ((0, inf)), max_scan_angle_rad ([-pi/2, pi/2]).
+
+    Scanning to 30 deg allows lambda / 1.5; to 90 deg the book's lambda / 2:
+
+    >>> import math
+    >>> float(grating_lobe_free_spacing_m(0.03, math.pi / 6)), float(grating_lobe_free_spacing_m(0.03, math.pi / 2))
+    (0.02, 0.015)
     """
     where = "grating_lobe_free_spacing_m"
     check_range("wavelength_m", wavelength_m, 0.0, None, lo_open=True, where=where)

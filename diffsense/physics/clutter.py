@@ -13,20 +13,36 @@ Sources (book = Brooker, *Introduction to Sensors for Ranging and Imaging*):
 - sonar backscatter and reverberation, book §8.15 eqs (8.46)–(8.48) and §12.7 eq (12.59);
   Lambert's law with Mackenzie's μ (Mackenzie 1961, J. Acoust. Soc. Am. 33, 1498);
   surface scattering strength of Chapman & Harris (1962, J. Acoust. Soc. Am. 34, 1592).
+
+The sea-state scales (book Table 12.2, Beaufort force, wave heights) live in
+:mod:`diffsense.physics.sea_state`, |K|² in :mod:`diffsense.physics.targets`; their names are
+re-exported here.
 """
 
 from __future__ import annotations
 
 import jax.numpy as jnp
-
-from diffsense.physics.propagation.dust import dust_volume_backscatter_m2_m3
-from diffsense.physics.targets import dielectric_factor_k2
 import numpy as np
 from jax.scipy.special import logsumexp
 
 from diffsense.errors import DomainError
 from diffsense.numerics.checks import check_range
+from diffsense.numerics.db import db10, db20, from_db10
 from diffsense.physics.constants import SPEED_OF_LIGHT_M_S
+from diffsense.physics.propagation.dust import dust_volume_backscatter_m2_m3
+from diffsense.physics.sea_state import (
+    KNOT_M_S,
+    SEA_STATE_TABLE_12_2,
+    beaufort_from_sea_state,
+    beaufort_from_wind_speed,
+    sea_state_wave_height_range_m,
+    sea_state_wind_speed_knots,
+)
+from diffsense.physics.targets import (
+    dielectric_factor_k_squared,
+    extended_target_rcs_m2,
+    target_strength_from_cross_section_db,
+)
 
 __all__ = [
     "beam_limited_area_m2",
@@ -62,21 +78,10 @@ __all__ = [
     "WATER_K_SQUARED",
 ]
 
-KNOT_M_S = 1852.0 / 3600.0
-"""One international knot in m/s (exact)."""
-
 WATER_K_SQUARED = 0.93
 """|K|² of liquid water at microwave frequencies, the usual weather-radar value."""
 
 _HALF_PI = np.pi / 2.0
-
-
-def _log10(x):
-    return jnp.log10(x)
-
-
-def _db(x):
-    return 10.0 * jnp.log10(x)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -99,6 +104,10 @@ def beam_limited_area_m2(range_m, az_beamwidth_rad, el_beamwidth_rad, grazing_ra
         elliptical: static flag; True applies the π/4 ellipse factor.
 
     Exact within the small-beamwidth (flat-footprint) geometry. Source: book §8.13.
+
+    >>> import math
+    >>> float(beam_limited_area_m2(1e4, 0.02, 0.05, math.pi / 6)), 1e4**2 * 0.02 * 0.05 / 0.5
+    (200000.0, 200000.0)
     """
     w = "beam_limited_area_m2"
     check_range("range_m", range_m, 0.0, None, lo_open=True, where=w)
@@ -124,6 +133,11 @@ def pulse_limited_area_m2(range_m, az_beamwidth_rad, pulse_width_s, grazing_rad,
         speed_m_s: propagation speed c (m/s), default the speed of light.
 
     Exact within the small-beamwidth geometry. Source: book §8.13.
+
+    A 1 µs pulse (150 m cell at c = 3e8) at 10 km, 0.02 rad beam, grazing incidence:
+
+    >>> float(pulse_limited_area_m2(1e4, 0.02, 1e-6, 0.0, speed_m_s=3e8)), 1e4 * 0.02 * 150.0
+    (30000.0, 30000.0)
     """
     w = "pulse_limited_area_m2"
     check_range("range_m", range_m, 0.0, None, lo_open=True, where=w)
@@ -170,6 +184,15 @@ def surface_clutter_area_m2(
         speed_m_s: propagation speed (m/s).
 
     Source: book §8.13 (two geometries, eqs (8.31)–(8.32)).
+
+    Where the two areas are equal the smooth minimum lies 10 log10(2)/16 = 0.19 dB below them:
+
+    >>> import math
+    >>> psi = math.atan(1e4 * 0.05 / 150.0)       # R θ_el / sin ψ = (c τ / 2) / cos ψ
+    >>> exact = float(surface_clutter_area_m2(1e4, 0.02, 0.05, 1e-6, psi, speed_m_s=3e8, sharpness=None))
+    >>> smooth = float(surface_clutter_area_m2(1e4, 0.02, 0.05, 1e-6, psi, speed_m_s=3e8))
+    >>> 10 * math.log10(smooth / exact), -10 * math.log10(2) / 16
+    (-0.188, -0.188)
     """
     w = "surface_clutter_area_m2"
     check_range("grazing_rad", grazing_rad, 0.0, _HALF_PI, lo_open=True, hi_open=True, where=w)
@@ -185,7 +208,8 @@ def surface_clutter_area_m2(
 
 
 def surface_clutter_rcs_m2(sigma0, area_m2):
-    """Clutter cross-section ``σ = σ° A`` (book eq (8.30)).
+    """Clutter cross-section ``σ = σ° A`` (book eq (8.30)); the area-extended target RCS of
+    :func:`diffsense.physics.targets.extended_target_rcs_m2`.
 
     Args:
         sigma0: reflectivity σ° (m²/m², linear), in [0, ∞).
@@ -194,7 +218,7 @@ def surface_clutter_rcs_m2(sigma0, area_m2):
     w = "surface_clutter_rcs_m2"
     check_range("sigma0", sigma0, 0.0, None, where=w)
     check_range("area_m2", area_m2, 0.0, None, where=w)
-    return sigma0 * area_m2
+    return extended_target_rcs_m2(sigma0, area_m2)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -212,11 +236,15 @@ def constant_gamma_sigma0(gamma_db, grazing_rad):
     The model holds in the plateau region of grazing angles (roughly 1°–60° for land and
     sea); it omits the near-grazing interference region and the near-vertical specular peak.
     Source: book §8.12 (constant-γ model) and §8.12.4.
+
+    >>> import math
+    >>> float(constant_gamma_sigma0(-10.0, math.pi / 6))   # 0.1 × sin 30°
+    0.05
     """
     w = "constant_gamma_sigma0"
     check_range("gamma_db", gamma_db, -80.0, 20.0, where=w)
     check_range("grazing_rad", grazing_rad, 0.0, _HALF_PI, where=w)
-    return 10.0 ** (gamma_db / 10.0) * jnp.sin(grazing_rad)
+    return from_db10(gamma_db) * jnp.sin(grazing_rad)
 
 
 def sea_clutter_gamma_db(beaufort, wavelength_m):
@@ -230,109 +258,20 @@ def sea_clutter_gamma_db(beaufort, wavelength_m):
             spans millimetre waves to UHF, where the fit is used).
 
     Source: book §8.12.4 eq (8.29), after Barton (1988).
+
+    >>> import math
+    >>> float(sea_clutter_gamma_db(4.0, 0.03)), 6 * 4 - 10 * math.log10(0.03) - 64
+    (-24.771, -24.771)
     """
     w = "sea_clutter_gamma_db"
     check_range("beaufort", beaufort, 0.0, 12.0, where=w)
     check_range("wavelength_m", wavelength_m, 1e-3, 1.0, where=w)
-    return 6.0 * beaufort - 10.0 * _log10(wavelength_m) - 64.0
-
-
-SEA_STATE_TABLE_12_2 = {
-    "sea_state": np.array([0.0, 0.5, 1.0, 2.0, 3.0, 6.0]),
-    "wind_speed_knots": np.array([0.0, 2.0, 5.0, 10.0, 15.0, 35.0]),
-    "noise_1khz_db": np.array([45.0, 50.0, 55.0, 60.0, 65.0, 70.0]),
-}
-"""Book Table 12.2 (§12.8): sea state, wind speed (knots) and isotropic noise spectrum level at
-1 kHz (dB re 1 µPa²/Hz, 1 Hz band)."""
-
-
-def sea_state_wind_speed_knots(sea_state):
-    """Wind speed (knots) for a sea state, by linear interpolation of the book's Table 12.2.
-
-    Table 12.2 (book §12.8): sea state 0, 0.5, 1, 2, 3, 6 ↔ wind 0, 2, 5, 10, 15, 35 knots.
-    Between rows the interpolation is linear (derivative piecewise constant).
-
-    Args:
-        sea_state: sea state (continuous), in [0, 6].
-    """
-    check_range("sea_state", sea_state, 0.0, 6.0, where="sea_state_wind_speed_knots")
-    t = SEA_STATE_TABLE_12_2
-    return jnp.interp(sea_state, t["sea_state"], t["wind_speed_knots"])
-
-
-def beaufort_from_wind_speed(wind_speed_m_s):
-    """Beaufort force from wind speed: ``K_B = (v / 0.836)^(2/3)`` (v in m/s at 10 m height).
-
-    Inverse of the Beaufort equivalent-speed relation ``v = 0.836 K_B^(3/2)`` m/s adopted by the
-    WMO (1946). Continuous; rounding gives the Beaufort number whose band (WMO Beaufort table:
-    1–3 kn force 1, …, 56–63 kn force 11, ≥64 kn force 12) contains v.
-
-    Args:
-        wind_speed_m_s: wind speed (m/s), in (0, 40]. (Zero is excluded because dK_B/dv is
-            infinite there.)
-    """
-    check_range("wind_speed_m_s", wind_speed_m_s, 0.0, 40.0, lo_open=True, where="beaufort_from_wind_speed")
-    return (wind_speed_m_s / 0.836) ** (2.0 / 3.0)
-
-
-def beaufort_from_sea_state(sea_state):
-    """Beaufort force for a sea state: book Table 12.2 wind speed, then ``(v/0.836)^(2/3)``.
-
-    Args:
-        sea_state: sea state (continuous), in (0, 6].
-    """
-    check_range("sea_state", sea_state, 0.0, 6.0, lo_open=True, where="beaufort_from_sea_state")
-    return beaufort_from_wind_speed(sea_state_wind_speed_knots(sea_state) * KNOT_M_S)
-
-
-# Douglas / U.S. Hydrographic Office sea-state scale, wave height bands in feet.
-_SEA_STATE_WAVE_HEIGHT_FT = {
-    0: (0.0, 0.0),
-    1: (0.0, 1.0),
-    2: (1.0, 3.0),
-    3: (3.0, 5.0),
-    4: (5.0, 8.0),
-    5: (8.0, 12.0),
-    6: (12.0, 20.0),
-    7: (20.0, 40.0),
-    8: (40.0, float("inf")),
-}
-
-
-def sea_state_wave_height_range_m(sea_state: int) -> tuple[float, float]:
-    """Wave-height band (m) of an integer sea state (Douglas / U.S. Hydrographic Office scale).
-
-    Bands in feet: 0: calm; 1: <1; 2: 1–3; 3: 3–5; 4: 5–8; 5: 8–12; 6: 12–20; 7: 20–40;
-    8: >40, converted at 0.3048 m/ft. This is the scale the book quotes for sea state 5
-    ("very rough, wave height 2.4 to 3.6 m", §14.9). A lookup on a static integer (not traced).
-
-    Args:
-        sea_state: integer sea state 0–8.
-    """
-    if sea_state not in _SEA_STATE_WAVE_HEIGHT_FT:
-        raise DomainError(f"sea_state_wave_height_range_m: argument 'sea_state' must be an integer 0-8; got {sea_state!r}")
-    lo, hi = _SEA_STATE_WAVE_HEIGHT_FT[sea_state]
-    return lo * 0.3048, hi * 0.3048
+    return 6.0 * beaufort - db10(wavelength_m) - 64.0
 
 
 # ---------------------------------------------------------------------------------------------
 # Volume clutter
 # ---------------------------------------------------------------------------------------------
-
-
-def dielectric_factor_k_squared(eps_real, eps_imag=0.0):
-    """``|K|² = |(ε − 1)/(ε + 2)|²`` for complex relative permittivity ε = ε' − jε''.
-
-    Args:
-        eps_real: ε' (dimensionless), in [1, 200].
-        eps_imag: ε'' ≥ 0 (loss), in [0, 200].
-
-    Source: book eq (8.38); §8.16.4 uses the real parts (rock 5.23 → 0.34, water 8.45 → 0.51).
-    """
-    w = "dielectric_factor_k_squared"
-    check_range("eps_real", eps_real, 1.0, 200.0, where=w)
-    check_range("eps_imag", eps_imag, 0.0, 200.0, where=w)
-    return dielectric_factor_k2(jnp.asarray(eps_real, dtype=float) - 1j * jnp.asarray(eps_imag, dtype=float))
 
 
 def rain_reflectivity_factor_mm6_m3(rain_rate_mm_h, a=200.0, b=1.6):
@@ -344,6 +283,9 @@ def rain_reflectivity_factor_mm6_m3(rain_rate_mm_h, a=200.0, b=1.6):
         b: Z–R exponent, in (0, 5].
 
     Source: Marshall & Palmer (1948) Z = 200 R^1.6; the book's Z definition eq (8.39).
+
+    >>> float(rain_reflectivity_factor_mm6_m3(1.0)), float(rain_reflectivity_factor_mm6_m3(10.0)), 200 * 10**1.6
+    (200.0, 7962.14, 7962.14)
     """
     w = "rain_reflectivity_factor_mm6_m3"
     check_range("rain_rate_mm_h", rain_rate_mm_h, 0.0, 500.0, lo_open=True, where=w)
@@ -362,6 +304,10 @@ def volume_reflectivity_m2_m3(z_mm6_m3, wavelength_m, k_squared=WATER_K_SQUARED)
         k_squared: |K|² (0.93 for water), in (0, 1].
 
     Source: book eq (8.37).
+
+    >>> import math
+    >>> float(volume_reflectivity_m2_m3(200.0, 0.1)), math.pi**5 * 0.93 * 200e-18 / 0.1**4
+    (5.69197e-10, 5.69197e-10)
     """
     w = "volume_reflectivity_m2_m3"
     check_range("z_mm6_m3", z_mm6_m3, 0.0, None, where=w)
@@ -412,6 +358,11 @@ def resolution_volume_m3(
     (§9.9.3): η = 1e-7 m²/m³, 0.02 × 0.07 rad, τ = 2 µs, α = 1.33 gives σ = 1.86e-8 R² m².
     Set ``beam_shape_factor=1`` for the sonar form (book eq (8.48)).
 
+    >>> import math
+    >>> closed = math.pi * 1e3**2 * 0.02 * 0.07 * 3e8 * 2e-6 / (8 * 1.33**2)
+    >>> float(resolution_volume_m3(1e3, 0.02, 0.07, 2e-6, speed_m_s=3e8)), closed
+    (186481.6, 186481.6)
+
     Args:
         range_m: range R (m), in (0, ∞).
         az_beamwidth_rad, el_beamwidth_rad: 3 dB beamwidths (rad), in (0, π).
@@ -449,6 +400,9 @@ def volume_clutter_rcs_m2(
         others: as :func:`resolution_volume_m3`.
 
     Source: book §9.9.3 (σ_clut = 1.86e-8 R² for the air-surveillance radar in heavy rain).
+
+    >>> float(volume_clutter_rcs_m2(1e-7, 1.0, 0.02, 0.07, 2e-6, speed_m_s=3e8))   # book: 1.86e-8 R²
+    1.86e-08
     """
     check_range("eta_m2_m3", eta_m2_m3, 0.0, None, where="volume_clutter_rcs_m2")
     vol = resolution_volume_m3(
@@ -462,6 +416,9 @@ def cylinder_wall_area_m2(diameter_m, range_gate_m):
 
     The ore-pass clutter area when the beam fills the pass (book §8.16.6: d = 6 m,
     ΔR = 2 m → 37.7 m², 15.8 dBm²).
+
+    >>> float(cylinder_wall_area_m2(6.0, 2.0))
+    37.7
 
     Args:
         diameter_m: shaft diameter d (m), in (0, ∞).
@@ -479,11 +436,14 @@ def signal_to_clutter_db(target_rcs_m2, clutter_rcs_m2):
     Args:
         target_rcs_m2: target RCS (m²), in (0, ∞).
         clutter_rcs_m2: clutter RCS in the same cell (m²), in (0, ∞).
+
+    >>> float(signal_to_clutter_db(1.0, 0.01))
+    20.0
     """
     w = "signal_to_clutter_db"
     check_range("target_rcs_m2", target_rcs_m2, 0.0, None, lo_open=True, where=w)
     check_range("clutter_rcs_m2", clutter_rcs_m2, 0.0, None, lo_open=True, where=w)
-    return _db(target_rcs_m2) - _db(clutter_rcs_m2)
+    return db10(target_rcs_m2) - db10(clutter_rcs_m2)
 
 
 def volume_clutter_limited_range_m(
@@ -503,7 +463,11 @@ def volume_clutter_limited_range_m(
 
         ``R = sqrt(σ_t / (K · 10^(SCR/10)))``.
 
-    Exact for the model. Book §9.9.3: σ_t = 1 m², K = 1.86e-8 m²/m², SCR 15.2 dB → 1274 m.
+    Exact for the model. Book §9.9.3: σ_t = 1 m², K = 1.86e-8 m²/m², SCR 15.2 dB → 1274 m
+    (the unrounded K = 1.8648e-8 of c = 3e8 m/s gives 1273 m):
+
+    >>> float(volume_clutter_limited_range_m(1.0, 15.2, 1e-7, 0.02, 0.07, 2e-6, speed_m_s=3e8))
+    1.27e3
 
     Args:
         target_rcs_m2: target RCS (m²), in (0, ∞).
@@ -518,7 +482,7 @@ def volume_clutter_limited_range_m(
     k = volume_clutter_rcs_m2(
         eta_m2_m3, 1.0, az_beamwidth_rad, el_beamwidth_rad, pulse_width_s, beam_shape_factor=beam_shape_factor, speed_m_s=speed_m_s
     )
-    return jnp.sqrt(target_rcs_m2 / (k * 10.0 ** (required_scr_db / 10.0)))
+    return jnp.sqrt(target_rcs_m2 / (k * from_db10(required_scr_db)))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -535,11 +499,15 @@ def lambert_scattering_strength_db(grazing_rad, mu_db=-27.0):
             530 and 1030 Hz. Domain [-60, 0].
 
     Source: Mackenzie, K. V. (1961), J. Acoust. Soc. Am. 33, 1498–1504.
+
+    >>> import math
+    >>> float(lambert_scattering_strength_db(math.pi / 6)), -27 + 20 * math.log10(0.5)
+    (-33.0206, -33.0206)
     """
     w = "lambert_scattering_strength_db"
     check_range("grazing_rad", grazing_rad, 0.0, _HALF_PI, lo_open=True, where=w)
     check_range("mu_db", mu_db, -60.0, 0.0, where=w)
-    return mu_db + 20.0 * _log10(jnp.sin(grazing_rad))
+    return mu_db + db20(jnp.sin(grazing_rad))
 
 
 def chapman_harris_surface_scattering_strength_db(grazing_rad, wind_speed_knots, freq_hz):
@@ -564,7 +532,7 @@ def chapman_harris_surface_scattering_strength_db(grazing_rad, wind_speed_knots,
     check_range("freq_hz", freq_hz, 400.0, 6400.0, where=w)
     beta = 158.0 * (wind_speed_knots * freq_hz ** (1.0 / 3.0)) ** (-0.58)
     theta_deg = jnp.degrees(grazing_rad)
-    return 3.3 * beta * _log10(theta_deg / 30.0) - 42.4 * _log10(beta) + 2.6
+    return 3.3 * beta * jnp.log10(theta_deg / 30.0) - 42.4 * jnp.log10(beta) + 2.6
 
 
 def reverberation_area_m2(range_m, az_beamwidth_rad, pulse_width_s, *, speed_m_s=1500.0):
@@ -611,7 +579,7 @@ def reverberation_level_db(source_level_db, transmission_loss_db, scattering_str
     check_range("transmission_loss_db", transmission_loss_db, 0.0, 400.0, where=w)
     check_range("scattering_strength_db", scattering_strength_db, -150.0, 0.0, where=w)
     check_range("area_or_volume", area_or_volume, 0.0, None, lo_open=True, where=w)
-    return source_level_db - 2.0 * transmission_loss_db + scattering_strength_db + _db(area_or_volume)
+    return source_level_db - 2.0 * transmission_loss_db + scattering_strength_db + db10(area_or_volume)
 
 
 def surface_reverberation_level_db(
@@ -648,7 +616,10 @@ def reflectivity_target_strength_db(sigma0_db, area_m2):
     """Target strength of a patch of reflectivity σ°: ``TS = σ°_dB + 10 log10(A / 4π)`` (dB).
 
     The book's side-scan bottom echo (§12.7, eq (12.59)): σ = σ°A and TS = 10 log10(σ/4π).
-    With S_b = −20 dB, δR = 0.25 m and θ_az = 0.0262 rad, TS = 10 log10 R − 52.8 dB.
+    With S_b = −20 dB, δR = 0.25 m and θ_az = 0.0262 rad, TS = 10 log10 R − 52.8 dB:
+
+    >>> float(reflectivity_target_strength_db(-20.0, 0.25 * 0.0262 * 1.0))   # at R = 1 m
+    -52.8
 
     Args:
         sigma0_db: reflectivity σ° (dB), in [-100, 30].
@@ -657,4 +628,4 @@ def reflectivity_target_strength_db(sigma0_db, area_m2):
     w = "reflectivity_target_strength_db"
     check_range("sigma0_db", sigma0_db, -100.0, 30.0, where=w)
     check_range("area_m2", area_m2, 0.0, None, lo_open=True, where=w)
-    return sigma0_db + _db(area_m2 / (4.0 * np.pi))
+    return sigma0_db + target_strength_from_cross_section_db(area_m2)

@@ -23,6 +23,7 @@ import numpy as np
 
 from diffsense.errors import DomainError
 from diffsense.numerics.checks import check_choice, check_range, is_concrete
+from diffsense.numerics.db import db10, db20
 
 __all__ = [
     "rcs_sphere_optical_m2",
@@ -45,19 +46,15 @@ __all__ = [
     "target_strength_circular_plate_db",
     "target_strength_cylinder_db",
     "dielectric_factor_k2",
+    "dielectric_factor_k_squared",
     "extended_target_rcs_m2",
     "swerling_rcs_pdf",
     "swerling_rcs_cdf",
     "swerling_rcs_sample",
 ]
 
-_TEN_OVER_LN10 = 10.0 / math.log(10.0)
 # Floor for dB forms of patterns with exact nulls: -300 dB keeps log and its gradient finite.
 _POWER_FLOOR = 1e-30
-
-
-def _db(x):
-    return _TEN_OVER_LN10 * jnp.log(x)
 
 
 def _positive(where, **kwargs):
@@ -86,6 +83,10 @@ def rcs_sphere_optical_m2(radius_m):
     decaying further with ka (see :func:`rcs_sphere_mie_m2`). Source: Brooker 8.2.1.
 
     Args: radius_m, m. Domain (0, inf).
+
+    >>> import math
+    >>> float(rcs_sphere_optical_m2(1.0)), math.pi     # a 1 m radius sphere: pi m^2
+    (3.14159, 3.14159)
     """
     _positive("rcs_sphere_optical_m2", radius_m=radius_m)
     a = jnp.asarray(radius_m)
@@ -100,6 +101,11 @@ def rcs_sphere_rayleigh_m2(radius_m, wavelength_m):
     ch. 3); use for ka < 0.3.
 
     Args: radius_m ((0, inf)), wavelength_m ((0, inf)).
+
+    >>> import math
+    >>> a, lam = 0.001, 0.03
+    >>> float(rcs_sphere_rayleigh_m2(a, lam)), 9 * math.pi * a**2 * (2 * math.pi * a / lam) ** 4
+    (5.44035e-08, 5.44035e-08)
     """
     _positive("rcs_sphere_rayleigh_m2", radius_m=radius_m, wavelength_m=wavelength_m)
     a = jnp.asarray(radius_m)
@@ -150,6 +156,18 @@ def rcs_sphere_mie_m2(radius_m, wavelength_m, n_terms=None):
 
     Returns:
         RCS in m^2. Limits: 9 pi a^2 x^4 as x -> 0; pi a^2 as x -> inf.
+
+    The first resonance, sigma / (pi a^2) = 3.64 near ka = 1 (Knott et al. ch. 3), and the
+    approach to the optical value pi a^2 (within 2.5 % at ka = 30):
+
+    >>> import math
+    >>> lam = 0.03
+    >>> a = lam / (2 * math.pi)
+    >>> float(rcs_sphere_mie_m2(a, lam)) / (math.pi * a * a)
+    3.64
+    >>> a = 30 * lam / (2 * math.pi)
+    >>> abs(float(rcs_sphere_mie_m2(a, lam)) / (math.pi * a * a) - 1) < 0.025
+    True
     """
     where = "rcs_sphere_mie_m2"
     _positive(where, radius_m=radius_m, wavelength_m=wavelength_m)
@@ -201,6 +219,10 @@ def rcs_plate_normal_m2(area_m2, wavelength_m):
     Physical optics; valid when both plate dimensions exceed a few wavelengths.
     Source: Brooker eq. 8.11 (with A = ab); Knott et al. Table 5.1.
     Args: area_m2 ((0, inf)), wavelength_m ((0, inf)).
+
+    >>> import math
+    >>> float(rcs_plate_normal_m2(1.0, 0.03)), 4 * math.pi * 1.0**2 / 0.03**2   # 1 m^2 at 10 GHz
+    (13962.6, 13962.6)
     """
     _positive("rcs_plate_normal_m2", area_m2=area_m2, wavelength_m=wavelength_m)
     area = jnp.asarray(area_m2)
@@ -221,6 +243,14 @@ def rcs_flat_plate_m2(side_a_m, side_b_m, wavelength_m, incidence_rad=0.0):
         side_b_m: other side, m. Domain (0, inf).
         wavelength_m: wavelength, m. Domain (0, inf).
         incidence_rad: angle from the plate normal, rad. Domain [-pi/2, pi/2].
+
+    Normal incidence gives 4 pi (ab)^2 / lambda^2; the first null lies at sin theta = lambda / a:
+
+    >>> import math
+    >>> float(rcs_flat_plate_m2(0.5, 2.0, 0.03)), 4 * math.pi * (0.5 * 2.0) ** 2 / 0.03**2
+    (13962.6, 13962.6)
+    >>> float(rcs_flat_plate_m2(0.5, 2.0, 0.03, math.asin(0.03 / 0.5))) < 1e-20
+    True
     """
     where = "rcs_flat_plate_m2"
     _positive(where, side_a_m=side_a_m, side_b_m=side_b_m, wavelength_m=wavelength_m)
@@ -240,6 +270,10 @@ def rcs_trihedral_triangular_m2(edge_m, wavelength_m):
     at +-20 deg (wide response). Physical optics, a >> lambda. Source: Knott et al.
     Table 5.1; Brooker 8.4.3 (Table 8.1).
     Args: edge_m ((0, inf)), wavelength_m ((0, inf)).
+
+    >>> import math
+    >>> float(rcs_trihedral_triangular_m2(0.3, 0.03)), 4 * math.pi * 0.3**4 / (3 * 0.03**2)
+    (37.6991, 37.6991)
     """
     _positive("rcs_trihedral_triangular_m2", edge_m=edge_m, wavelength_m=wavelength_m)
     lam = jnp.asarray(wavelength_m)
@@ -313,6 +347,12 @@ def laser_cross_section_lambertian_m2(reflectivity, area_m2, incidence_rad=0.0):
         area_m2: physical area of the illuminated surface, m^2. Domain [0, inf).
         incidence_rad: angle between the line of sight and the surface normal, rad. Domain
             [-pi/2, pi/2].
+
+    A 1 m^2 white (rho = 1) diffuser seen face on has sigma = 4 A; at 60 deg cos^2 = 1/4:
+
+    >>> import math
+    >>> float(laser_cross_section_lambertian_m2(1.0, 1.0)), float(laser_cross_section_lambertian_m2(1.0, 1.0, math.pi / 3))
+    (4.0, 1.0)
     """
     where = "laser_cross_section_lambertian_m2"
     check_range("reflectivity", reflectivity, 0.0, 1.0, where=where)
@@ -345,9 +385,13 @@ def target_strength_from_cross_section_db(cross_section_m2):
     """Acoustic target strength from scattering cross section: ``TS = 10 log10(sigma / 4 pi)``, dB.
 
     Brooker eq. 12.55 (TS is referred to 1 m). Domain sigma in (0, inf).
+
+    >>> import math
+    >>> abs(float(target_strength_from_cross_section_db(4 * math.pi))) < 1e-14   # sigma = 4 pi: 0 dB
+    True
     """
     _positive("target_strength_from_cross_section_db", cross_section_m2=cross_section_m2)
-    return _db(jnp.asarray(cross_section_m2) / (4.0 * jnp.pi))
+    return db10(jnp.asarray(cross_section_m2) / (4.0 * jnp.pi))
 
 
 def target_strength_sphere_db(radius_m):
@@ -355,10 +399,14 @@ def target_strength_sphere_db(radius_m):
 
     Geometric (ka >> 1) limit; any incidence. 1 m diameter -> -12.04 dB (the book: -12).
     Args: radius_m ((0, inf)).
+
+    >>> import math
+    >>> float(target_strength_sphere_db(0.5)), 10 * math.log10(0.5**2 / 4)
+    (-12.041, -12.041)
     """
     _positive("target_strength_sphere_db", radius_m=radius_m)
     a = jnp.asarray(radius_m)
-    return _db(a * a / 4.0)
+    return db10(a * a / 4.0)
 
 
 def target_strength_convex_surface_db(radius_1_m, radius_2_m):
@@ -367,16 +415,19 @@ def target_strength_convex_surface_db(radius_1_m, radius_2_m):
     a, b = principal radii of curvature, both >> lambda. Args: radii, m, (0, inf).
     """
     _positive("target_strength_convex_surface_db", radius_1_m=radius_1_m, radius_2_m=radius_2_m)
-    return _db(jnp.asarray(radius_1_m) * jnp.asarray(radius_2_m) / 4.0)
+    return db10(jnp.asarray(radius_1_m) * jnp.asarray(radius_2_m) / 4.0)
 
 
 def target_strength_plate_db(area_m2, wavelength_m):
     """TS of a plate of any shape at normal incidence, ``20 log10(A / lambda)`` (Table 8.6).
 
     Plate dimensions >> lambda. Args: area_m2 ((0, inf)), wavelength_m ((0, inf)).
+
+    >>> float(target_strength_plate_db(1.0, 0.01))   # 1 m^2 at lambda = 1 cm: 20 log10 100
+    40.0
     """
     _positive("target_strength_plate_db", area_m2=area_m2, wavelength_m=wavelength_m)
-    return 2.0 * _db(jnp.asarray(area_m2) / jnp.asarray(wavelength_m))
+    return db20(jnp.asarray(area_m2) / jnp.asarray(wavelength_m))
 
 
 def _angle_correction_db(length, lam, theta):
@@ -386,7 +437,7 @@ def _angle_correction_db(length, lam, theta):
     """
     x = 2.0 * jnp.pi * length / lam * jnp.sin(theta)
     pattern = _sinc(x) ** 2 * jnp.cos(theta) ** 2
-    return _db(jnp.maximum(pattern, _POWER_FLOOR))
+    return db10(jnp.maximum(pattern, _POWER_FLOOR))
 
 
 def target_strength_rectangular_plate_db(side_a_m, side_l_m, wavelength_m, incidence_rad=0.0):
@@ -405,7 +456,7 @@ def target_strength_rectangular_plate_db(side_a_m, side_l_m, wavelength_m, incid
     check_range("incidence_rad", incidence_rad, -0.5 * math.pi, 0.5 * math.pi, lo_open=True, hi_open=True, where=where)
     length = jnp.asarray(side_l_m)
     lam = jnp.asarray(wavelength_m)
-    normal = 2.0 * _db(jnp.asarray(side_a_m) * length / lam)
+    normal = db20(jnp.asarray(side_a_m) * length / lam)
     return normal + _angle_correction_db(length, lam, jnp.asarray(incidence_rad))
 
 
@@ -416,7 +467,7 @@ def target_strength_circular_plate_db(radius_m, wavelength_m):
     """
     _positive("target_strength_circular_plate_db", radius_m=radius_m, wavelength_m=wavelength_m)
     a = jnp.asarray(radius_m)
-    return 2.0 * _db(jnp.pi * a * a / jnp.asarray(wavelength_m))
+    return db20(jnp.pi * a * a / jnp.asarray(wavelength_m))
 
 
 def target_strength_cylinder_db(radius_m, length_m, wavelength_m, incidence_rad=0.0):
@@ -435,7 +486,7 @@ def target_strength_cylinder_db(radius_m, length_m, wavelength_m, incidence_rad=
     check_range("incidence_rad", incidence_rad, -0.5 * math.pi, 0.5 * math.pi, lo_open=True, hi_open=True, where=where)
     length = jnp.asarray(length_m)
     lam = jnp.asarray(wavelength_m)
-    broadside = _db(jnp.asarray(radius_m) * length * length / (2.0 * lam))
+    broadside = db10(jnp.asarray(radius_m) * length * length / (2.0 * lam))
     return broadside + _angle_correction_db(length, lam, jnp.asarray(incidence_rad))
 
 
@@ -454,6 +505,9 @@ def dielectric_factor_k2(relative_permittivity):
     Args:
         relative_permittivity: relative dielectric constant (real part in [1, inf);
             a complex value is not range-checked beyond that).
+
+    >>> float(dielectric_factor_k2(5.23)), float(dielectric_factor_k2(8.45))   # book 8.16.4
+    (0.34, 0.51)
     """
     if is_concrete(relative_permittivity):
         real_part = np.real(np.asarray(relative_permittivity))
@@ -463,11 +517,35 @@ def dielectric_factor_k2(relative_permittivity):
     return jnp.real(k * jnp.conj(k))
 
 
+def dielectric_factor_k_squared(eps_real, eps_imag=0.0):
+    """``|K|^2 = |(eps - 1)/(eps + 2)|^2`` for eps = eps' - j eps'' given as two real numbers.
+
+    The form used for clutter and dust (Brooker eq. 8.38); evaluated by
+    :func:`dielectric_factor_k2`. Exact. Book 8.16.4: rock 5.23 -> 0.342, water 8.45 -> 0.508
+    (ratio 1.49, 1.7 dB; the book rounds to 1.5 and 1.8 dB).
+
+    Args:
+        eps_real: eps' (dimensionless), in [1, 200].
+        eps_imag: eps'' >= 0 (loss), in [0, 200].
+
+    >>> float(dielectric_factor_k_squared(5.23)), (4.23 / 7.23) ** 2   # rock (book 8.16.4: 0.34)
+    (0.3423, 0.3423)
+    """
+    where = "dielectric_factor_k_squared"
+    check_range("eps_real", eps_real, 1.0, 200.0, where=where)
+    check_range("eps_imag", eps_imag, 0.0, 200.0, where=where)
+    return dielectric_factor_k2(jnp.asarray(eps_real, dtype=float) - 1j * jnp.asarray(eps_imag, dtype=float))
+
+
 def extended_target_rcs_m2(sigma0, area_m2):
     """RCS of an area-extended target, ``sigma = sigma0 A`` (Brooker 8.13).
 
     Ore pass (8.16.6): sigma0 = 0.5 (-3 dB) over pi 6^2/4 = 28.3 m^2 (14.5 dBm^2) ->
     11.5 dBm^2. Args: sigma0 (reflectivity, m^2/m^2, [0, inf)), area_m2 ([0, inf)).
+
+    >>> import math
+    >>> 10 * math.log10(float(extended_target_rcs_m2(0.5, math.pi * 6.0**2 / 4)))   # book: 11.5 dBm^2
+    11.5
     """
     where = "extended_target_rcs_m2"
     check_range("sigma0", sigma0, 0.0, None, where=where)
@@ -526,6 +604,14 @@ def swerling_rcs_cdf(rcs_m2, mean_rcs_m2, case):
     accuracy in the lower tail.
 
     Args: rcs_m2 ([0, inf)), mean_rcs_m2 ((0, inf)), case (static int 0-4).
+
+    At the mean: 1 - 1/e (cases 1, 2) and 1 - 3/e^2 (cases 3, 4):
+
+    >>> import math
+    >>> float(swerling_rcs_cdf(1.0, 1.0, 1)), 1 - math.exp(-1)
+    (0.632121, 0.632121)
+    >>> float(swerling_rcs_cdf(1.0, 1.0, 3)), 1 - 3 * math.exp(-2)
+    (0.593994, 0.593994)
     """
     where = "swerling_rcs_cdf"
     _check_swerling(case, where)

@@ -30,6 +30,7 @@ import numpy as np
 from jax import lax
 
 from diffsense.numerics.checks import check_range, is_concrete
+from diffsense.numerics.db import from_db10
 from diffsense.numerics.rootfind import decreasing_root_log
 
 __all__ = [
@@ -41,11 +42,13 @@ __all__ = [
     "alpha_beta_position_variance_ratio",
     "alpha_beta_velocity_variance_ratio_s2",
     "alpha_beta_acceleration_lag_m",
+    "alpha_beta_tracking_cost_m2",
     "split_gate_range_noise_m",
     "benedict_bordner_tracking_cost_m2",
     "benedict_bordner_optimal_alpha",
     "servo_acceleration_error_constant_s2",
     "servo_dynamic_lag_rad",
+    "servo_angle_noise_variance_rad2",
     "servo_angle_error_variance_rad2",
     "servo_optimal_bandwidth_hz",
     "MONOPULSE_SLOPE_TYPICAL",
@@ -55,13 +58,6 @@ __all__ = [
 
 #: Typical monopulse gain (error-slope) constant k_m, book §14.7 (below eq (14.12)).
 MONOPULSE_SLOPE_TYPICAL = 1.6
-
-_LN10_10 = math.log(10.0) / 10.0
-
-
-def _undb(x_db):
-    return jnp.exp(jnp.asarray(x_db) * _LN10_10)
-
 
 def _check_stable(alpha, beta, where):
     """α in (0, 2), β in (0, 4 − 2α): the stability triangle of the α-β filter (Jury test on
@@ -87,6 +83,9 @@ def benedict_bordner_beta(alpha):
     Args:
         alpha: position gain α, in (0, 1].
 
+    >>> float(benedict_bordner_beta(0.5)), 0.5**2 / (2 - 0.5)
+    (0.166667, 0.166667)
+
     Source: book eq (13.11).
     """
     check_range("alpha", alpha, 0.0, 1.0, lo_open=True, where="benedict_bordner_beta")
@@ -101,6 +100,13 @@ def critically_damped_alpha(beta):
 
     Args:
         beta: velocity gain β, in (0, 1]. The derivative is infinite at β = 0.
+
+    Both poles at z = 1 − √β: the characteristic polynomial z² + (α + β − 2) z + (1 − α) is
+    then (z − (1 − √β))², so with β = 0.25 its coefficients are those of (z − 0.5)²:
+
+    >>> a = float(critically_damped_alpha(0.25))
+    >>> a, a + 0.25 - 2.0, 1.0 - a
+    (0.75, -1.0, 0.25)
 
     Source: book eq (13.12).
     """
@@ -205,6 +211,13 @@ def alpha_beta_position_variance_ratio(alpha, beta):
     Args:
         alpha: α in (0, 2); beta: β in (0, 4 − 2α) (stability triangle).
 
+    The sum of squares of the impulse response of the filter itself, run over 400 samples:
+
+    >>> import jax.numpy as jnp
+    >>> h, _ = alpha_beta_filter(jnp.zeros(400).at[0].set(1.0), 0.5, 0.2, 1.0)
+    >>> float(alpha_beta_position_variance_ratio(0.5, 0.2)), float(jnp.sum(h * h))
+    (0.428571, 0.428571)
+
     Source: Benedict & Bordner (1962); Kalata (1984); the book computes Σh² numerically
     (§13.6, ``ablag.m``).
     """
@@ -264,12 +277,18 @@ def split_gate_range_noise_m(gate_width_m, snr_db):
         gate_width_m: range gate size ΔR (m) (≈ cτ/2 of the pulse), in (0, ∞).
         snr_db: single-measurement SNR (dB), in [-20, 100].
 
+    The book's ``ablag.m`` case, a 3 m gate at SNR 10 dB (a ratio of 10):
+
+    >>> import math
+    >>> float(split_gate_range_noise_m(3.0, 10.0)), 3.0 / (2.5 * math.sqrt(2 * 10))
+    (0.268328, 0.268328)
+
     Source: book §13.6 script ``ablag.m`` (``sigma = tau/(2.5*sqrt(2*snr))``, tau the gate in m).
     """
     w = "split_gate_range_noise_m"
     check_range("gate_width_m", gate_width_m, 0.0, None, lo_open=True, where=w)
     check_range("snr_db", snr_db, -20.0, 100.0, where=w)
-    return jnp.asarray(gate_width_m) / (2.5 * jnp.sqrt(2.0 * _undb(snr_db)))
+    return jnp.asarray(gate_width_m) / (2.5 * jnp.sqrt(2.0 * from_db10(snr_db)))
 
 
 def benedict_bordner_tracking_cost_m2(alpha, acceleration_m_s2, sample_rate_hz, range_noise_m):
@@ -295,10 +314,39 @@ def benedict_bordner_tracking_cost_m2(alpha, acceleration_m_s2, sample_rate_hz, 
 
 
 def _bb_cost(alpha, accel, ts, sigma):
-    beta = benedict_bordner_beta(alpha)
+    return _ab_cost(alpha, benedict_bordner_beta(alpha), accel, ts, sigma)
+
+
+def _ab_cost(alpha, beta, accel, ts, sigma):
     lag = alpha_beta_acceleration_lag_m(accel, ts, alpha, beta)
     vrr = alpha_beta_position_variance_ratio(alpha, beta)
     return lag * lag + sigma * sigma * vrr
+
+
+def alpha_beta_tracking_cost_m2(alpha, beta, acceleration_m_s2, sample_time_s, range_noise_m):
+    """The book's tracking cost for any gains ``J = lag² + σ_R² K_x`` (m²).
+
+    ``lag = a T² (1 − α)/β`` (:func:`alpha_beta_acceleration_lag_m`) and
+    ``K_x`` (:func:`alpha_beta_position_variance_ratio`): the mean-square error of the smoothed
+    position behind a constant acceleration a with white measurement noise σ_R. Its square root
+    is the rms range tracking error.
+
+    Args:
+        alpha: α in (0, 2); beta: β in (0, 4 − 2α).
+        acceleration_m_s2: a (m/s²), any real value.
+        sample_time_s: T (s), in (0, ∞).
+        range_noise_m: σ_R (m), in [0, ∞).
+
+    With α = 1 the filter passes the measurement (K_x = 1, no lag), so J = σ_R²:
+
+    >>> float(alpha_beta_tracking_cost_m2(1.0, 0.5, 10.0, 0.02, 0.3)), 0.3**2
+    (0.09, 0.09)
+
+    Source: book §13.4.1 (cost lag² + σ²) and §13.6 ``ablag.m``.
+    """
+    w = "alpha_beta_tracking_cost_m2"
+    check_range("range_noise_m", range_noise_m, 0.0, None, where=w)
+    return _ab_cost(jnp.asarray(alpha), jnp.asarray(beta), acceleration_m_s2, sample_time_s, jnp.asarray(range_noise_m))
 
 
 def benedict_bordner_optimal_alpha(acceleration_m_s2, sample_rate_hz, range_noise_m, *, alpha_min=1e-6):
@@ -384,20 +432,63 @@ def servo_dynamic_lag_rad(angular_acceleration_rad_s2, noise_bandwidth_hz):
     return jnp.asarray(angular_acceleration_rad_s2) / servo_acceleration_error_constant_s2(noise_bandwidth_hz)
 
 
+def _servo_noise_per_hz(beamwidth_rad, prf_hz, bandwidth_pulse_product, snr_db, monopulse_slope):
+    """Thermal-noise angle variance per hertz of servo bandwidth, θ² / (2 k_m² f_r βτ SNR) (rad²/Hz)."""
+    return beamwidth_rad**2 / (2.0 * monopulse_slope**2 * prf_hz * bandwidth_pulse_product * from_db10(snr_db))
+
+
 def _servo_terms(beamwidth_rad, prf_hz, bandwidth_pulse_product, snr_db, acceleration_m_s2, range_m, monopulse_slope):
-    noise = beamwidth_rad**2 / (2.0 * monopulse_slope**2 * prf_hz * bandwidth_pulse_product * _undb(snr_db))
+    noise = _servo_noise_per_hz(beamwidth_rad, prf_hz, bandwidth_pulse_product, snr_db, monopulse_slope)
     lag = acceleration_m_s2**2 / (6.25 * range_m**2)
     return noise, lag
 
 
-def _check_servo(w, beamwidth_rad, prf_hz, bandwidth_pulse_product, snr_db, acceleration_m_s2, range_m, monopulse_slope):
+def _check_servo_noise(w, beamwidth_rad, prf_hz, bandwidth_pulse_product, snr_db, monopulse_slope):
     check_range("beamwidth_rad", beamwidth_rad, 0.0, math.pi, lo_open=True, where=w)
     check_range("prf_hz", prf_hz, 0.0, None, lo_open=True, where=w)
     check_range("bandwidth_pulse_product", bandwidth_pulse_product, 0.0, None, lo_open=True, where=w)
     check_range("snr_db", snr_db, -20.0, 100.0, where=w)
+    check_range("monopulse_slope", monopulse_slope, 0.0, None, lo_open=True, where=w)
+
+
+def _check_servo(w, beamwidth_rad, prf_hz, bandwidth_pulse_product, snr_db, acceleration_m_s2, range_m, monopulse_slope):
+    _check_servo_noise(w, beamwidth_rad, prf_hz, bandwidth_pulse_product, snr_db, monopulse_slope)
     check_range("acceleration_m_s2", acceleration_m_s2, 0.0, None, lo_open=True, where=w)
     check_range("range_m", range_m, 0.0, None, lo_open=True, where=w)
-    check_range("monopulse_slope", monopulse_slope, 0.0, None, lo_open=True, where=w)
+
+
+def servo_angle_noise_variance_rad2(
+    noise_bandwidth_hz,
+    beamwidth_rad,
+    prf_hz,
+    bandwidth_pulse_product,
+    snr_db,
+    monopulse_slope=MONOPULSE_SLOPE_TYPICAL,
+):
+    """Thermal-noise part of the mean-square angle tracking error (rad²):
+
+        ``σ_n² = θ_3dB² β_n / (2 k_m² f_r βτ SNR)``
+
+    Args: as :func:`servo_angle_error_variance_rad2` without the target's acceleration and range.
+
+    A 1° beam, β_n = 2 Hz, k_m = 1.6, f_r = 1 kHz, βτ = 1 and SNR 20 dB, computed from the
+    formula:
+
+    >>> import math
+    >>> theta = math.radians(1.0)
+    >>> float(servo_angle_noise_variance_rad2(2.0, theta, 1e3, 1.0, 20.0, 1.6))
+    1.19e-09
+    >>> theta**2 * 2.0 / (2 * 1.6**2 * 1e3 * 1.0 * 100.0)
+    1.19e-09
+
+    Source: book eq (14.11), first term.
+    """
+    w = "servo_angle_noise_variance_rad2"
+    check_range("noise_bandwidth_hz", noise_bandwidth_hz, 0.0, None, lo_open=True, where=w)
+    _check_servo_noise(w, beamwidth_rad, prf_hz, bandwidth_pulse_product, snr_db, monopulse_slope)
+    noise = _servo_noise_per_hz(jnp.asarray(beamwidth_rad), jnp.asarray(prf_hz), jnp.asarray(bandwidth_pulse_product),
+                                jnp.asarray(snr_db), jnp.asarray(monopulse_slope))
+    return noise * jnp.asarray(noise_bandwidth_hz)
 
 
 def servo_angle_error_variance_rad2(
@@ -414,6 +505,9 @@ def servo_angle_error_variance_rad2(
 
         ``σ_θ² = θ_3dB² β_n / (2 k_m² f_r βτ SNR) + a_t² / (6.25 R² β_n⁴)``
 
+    the noise of :func:`servo_angle_noise_variance_rad2` plus the square of the lag of
+    :func:`servo_dynamic_lag_rad` at the angular acceleration a_t / R.
+
     Args:
         noise_bandwidth_hz: servo noise bandwidth β_n (Hz), in (0, ∞).
         beamwidth_rad: antenna 3 dB beamwidth θ_3dB (rad), in (0, π].
@@ -423,6 +517,15 @@ def servo_angle_error_variance_rad2(
         acceleration_m_s2: real or geometric target acceleration a_t (m/s²), in (0, ∞).
         range_m: (crossing) range R (m), in (0, ∞).
         monopulse_slope: monopulse gain constant k_m, in (0, ∞); typically 1.6.
+
+    The two terms computed separately add up to it:
+
+    >>> import math
+    >>> theta = math.radians(1.0)
+    >>> noise = servo_angle_noise_variance_rad2(2.0, theta, 1e3, 1.0, 20.0)
+    >>> lag = servo_dynamic_lag_rad(50.0 / 5e3, 2.0)
+    >>> float(servo_angle_error_variance_rad2(2.0, theta, 1e3, 1.0, 20.0, 50.0, 5e3)), float(noise + lag**2)
+    (1.00119e-06, 1.00119e-06)
 
     Source: book eq (14.11).
     """
@@ -455,6 +558,15 @@ def servo_optimal_bandwidth_hz(
 
     Args: as :func:`servo_angle_error_variance_rad2` without ``noise_bandwidth_hz``.
 
+    The variance is larger 1 % either side of β_o:
+
+    >>> import math
+    >>> args = (math.radians(1.0), 1e3, 1.0, 20.0, 50.0, 5e3)
+    >>> b_o = float(servo_optimal_bandwidth_hz(*args))
+    >>> var = lambda b: float(servo_angle_error_variance_rad2(b, *args))
+    >>> var(0.99 * b_o) > var(b_o) < var(1.01 * b_o)
+    True
+
     Source: book eq (14.12).
     """
     w = "servo_optimal_bandwidth_hz"
@@ -463,7 +575,7 @@ def servo_optimal_bandwidth_hz(
     km = jnp.asarray(monopulse_slope)
     r = jnp.asarray(range_m)
     th = jnp.asarray(beamwidth_rad)
-    arg = 1.28 * a * a * km * km * jnp.asarray(prf_hz) * jnp.asarray(bandwidth_pulse_product) * _undb(snr_db) / (th * th * r * r)
+    arg = 1.28 * a * a * km * km * jnp.asarray(prf_hz) * jnp.asarray(bandwidth_pulse_product) * from_db10(snr_db) / (th * th * r * r)
     return arg**0.2
 
 
@@ -508,6 +620,12 @@ def kalman_steady_state_alpha_beta(tracking_index):
 
     Returns:
         ``(alpha, beta)``.
+
+    With Λ = 1 the published closed forms give α = −(1 + 8 − 5·3)/8 and β = (1 + 4 − 3)/4:
+
+    >>> a, b = kalman_steady_state_alpha_beta(1.0)
+    >>> float(a), float(b), -(1 + 8 - 5 * 3) / 8, (1 + 4 - 3) / 4
+    (0.75, 0.5, 0.75, 0.5)
     """
     check_range("tracking_index", tracking_index, 0.0, 1e8, lo_open=True, where="kalman_steady_state_alpha_beta")
     lam = jnp.asarray(tracking_index)

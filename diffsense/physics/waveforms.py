@@ -13,6 +13,9 @@ and the seeker example §11.12.4; hits per scan eq (9.26) and §9.9.1.1; blind s
 (14.2)–(14.3); Doppler shift eq (10.7); Doppler beam sharpening eq (12.67); unfocused SAR eqs
 (12.71)–(12.76); focused SAR eqs (12.80)–(12.85); real-aperture cross-range eq (12.38).
 The scan loss of a phased array is the cos θ factor of ``diffsense.physics.antennas.phased_array_gain``.
+
+This module is the one home of these relations: the sensor chains (radar, lidar, sonar) call
+them with their own propagation speed instead of keeping copies.
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ import math
 import jax.numpy as jnp
 
 from diffsense.numerics.checks import check_range, is_concrete
+from diffsense.numerics.db import db10
 from diffsense.physics.constants import SPEED_OF_LIGHT_M_S
 
 __all__ = [
@@ -82,7 +86,12 @@ def range_resolution_bandwidth_m(bandwidth_hz, propagation_speed_m_s=_C):
         propagation_speed_m_s: wave speed c (m/s), in (0, ∞); default exact c.
 
     Source: book eqs (11.4), (11.25); side-scan sonar chirp 15 kHz → 0.05 m, eq (12.37);
-    FMCW seeker 300 MHz → 0.5 m, §11.12.4.2.
+    FMCW seeker 300 MHz → 0.5 m, §11.12.4.2 (with the book's c = 3e8 m/s):
+
+    >>> float(range_resolution_bandwidth_m(300e6, 3e8))
+    0.5
+    >>> float(range_resolution_bandwidth_m(15e3, 1522.0))
+    0.05
     """
     w = "range_resolution_bandwidth_m"
     _pos("bandwidth_hz", bandwidth_hz, w)
@@ -99,6 +108,10 @@ def range_resolution_pulse_m(pulse_width_s, propagation_speed_m_s=_C):
 
     Source: book §11.7.2 below eq (11.25): c/(2Δf) is the pulse-compression/FMCW equivalent of
     the classical pulsed resolution cτ/2 with τ = 1/Δf (eq (11.4), not in the excerpt used here).
+    Book §8.16.3: a 2 m range gate needs a 13.3 ns pulse (c = 3e8 m/s):
+
+    >>> float(range_resolution_pulse_m(13.3e-9, 3e8))
+    2.0
     """
     w = "range_resolution_pulse_m"
     _pos("pulse_width_s", pulse_width_s, w)
@@ -113,7 +126,11 @@ def unambiguous_range_m(prf_hz, propagation_speed_m_s=_C):
         prf_hz: pulse repetition frequency f_p (Hz), in (0, ∞).
         propagation_speed_m_s: wave speed c (m/s), in (0, ∞).
 
-    Source: book §8.16.14 and eq (12.39) (inverse form f_p = c / 2R_max).
+    Source: book §8.16.14 and eq (12.39) (inverse form f_p = c / 2R_max); the ore-pass radar's
+    500 kHz PRF is unambiguous to 300 m (c = 3e8 m/s):
+
+    >>> float(unambiguous_range_m(500e3, 3e8))
+    300.0
     """
     w = "unambiguous_range_m"
     _pos("prf_hz", prf_hz, w)
@@ -128,7 +145,12 @@ def max_prf_hz(max_range_m, propagation_speed_m_s=_C):
         max_range_m: maximum unambiguous range R_max (m), in (0, ∞).
         propagation_speed_m_s: wave speed c (m/s), in (0, ∞).
 
-    Source: book §8.16.14 (300 m → 500 kHz), eq (12.39) (sonar, 500 m at 1522 m/s → 1.52 Hz).
+    Source: book §8.16.14 (300 m → 500 kHz), eq (12.39) (sonar, 500 m at 1522 m/s → 1.52 Hz):
+
+    >>> float(max_prf_hz(300.0, 3e8))
+    500000.0
+    >>> float(max_prf_hz(500.0, 1522.0))
+    1.52
     """
     w = "max_prf_hz"
     _pos("max_range_m", max_range_m, w)
@@ -143,7 +165,10 @@ def duty_cycle(prf_hz, pulse_width_s):
         prf_hz: pulse repetition frequency f_p (Hz), in (0, ∞).
         pulse_width_s: pulse width τ (s), in (0, ∞); the product must not exceed 1.
 
-    Source: book eq (12.40) (the book prints 100 f_p τ in percent: 1.52 Hz × 333 µs = 0.05 %).
+    Source: book eq (12.40) (the book prints 100 f_p τ in percent: 1.52 Hz × 333 µs = 0.05 %):
+
+    >>> float(duty_cycle(1.52, 333e-6))
+    0.0005
     """
     w = "duty_cycle"
     _pos("prf_hz", prf_hz, w)
@@ -163,7 +188,10 @@ def update_rate_hz(prf_hz, pulses_per_update):
             real values allowed (smooth relaxation of the count).
 
     Source: book §8.16.14 (500 kHz / 16 = 31.25 kHz) and §14.4 (range tracking loop updated at
-    f_p/N_p when an N_p-point FFT extracts Doppler).
+    f_p/N_p when an N_p-point FFT extracts Doppler):
+
+    >>> float(update_rate_hz(500e3, 16))
+    31250.0
     """
     w = "update_rate_hz"
     _pos("prf_hz", prf_hz, w)
@@ -181,7 +209,10 @@ def pulse_compression_gain(bandwidth_hz, pulse_width_s):
         bandwidth_hz: chirp/code bandwidth B (Hz), in (0, ∞).
         pulse_width_s: transmitted pulse width τ (s), in (0, ∞).
 
-    Source: book §11.3–11.4 (compression ratio Bτ; sonar §12.7: 32.9 ms × 15 kHz = 493).
+    Source: book §11.3–11.4 (compression ratio Bτ; sonar §12.7: 32.9 ms × 15 kHz, printed 493):
+
+    >>> float(pulse_compression_gain(15e3, 32.9e-3))
+    493.5
     """
     w = "pulse_compression_gain"
     _pos("bandwidth_hz", bandwidth_hz, w)
@@ -190,8 +221,14 @@ def pulse_compression_gain(bandwidth_hz, pulse_width_s):
 
 
 def pulse_compression_gain_db(bandwidth_hz, pulse_width_s):
-    """``10 log10(B τ)`` (dB); see :func:`pulse_compression_gain`."""
-    return (10.0 / math.log(10.0)) * jnp.log(pulse_compression_gain(bandwidth_hz, pulse_width_s))
+    """``10 log10(B τ)`` (dB); see :func:`pulse_compression_gain`.
+
+    A 10 µs pulse swept over 100 MHz compresses by 1000, i.e. 30 dB:
+
+    >>> float(pulse_compression_gain_db(100e6, 10e-6))
+    30.0
+    """
+    return db10(pulse_compression_gain(bandwidth_hz, pulse_width_s))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -299,7 +336,10 @@ def fmcw_beat_frequency_hz(range_m, sweep_bandwidth_hz, sweep_time_s, propagatio
         sweep_time_s: sweep (chirp) duration T_b (s), in (0, ∞).
         propagation_speed_m_s: wave speed c (m/s), in (0, ∞).
 
-    Source: book eqs (11.20)–(11.22); seeker §11.12.4: 300 MHz, 500 µs, 1 km → 4 MHz.
+    Source: book eqs (11.20)–(11.22); seeker §11.12.4: 300 MHz, 500 µs, 1 km → 4 MHz:
+
+    >>> float(fmcw_beat_frequency_hz(1e3, 300e6, 500e-6, 3e8))
+    4000000.0
     """
     w = "fmcw_beat_frequency_hz"
     check_range("range_m", range_m, 0.0, None, where=w)
@@ -412,7 +452,10 @@ def fft_bin_width_hz(sample_rate_hz, n_fft, window_factor=1.0):
             for its window, Table 11.4 lists the factors), in [1, 3].
 
     Source: book §11.12.4.8: 1.3 × 5 MHz / 2048 ≈ 3 kHz (10 MHz sampling, 4096-point FFT:
-    f_s/N = (f_s/2)/(N/2)).
+    f_s/N = (f_s/2)/(N/2)):
+
+    >>> float(fft_bin_width_hz(10e6, 4096, 1.3)), 1.3 * 5e6 / 2048
+    (3173.83, 3173.83)
     """
     w = "fft_bin_width_hz"
     _pos("sample_rate_hz", sample_rate_hz, w)
@@ -430,7 +473,10 @@ def fmcw_sample_rate_hz(max_beat_frequency_hz, oversampling=2.5):
         max_beat_frequency_hz: highest beat frequency f_b,max (Hz), in (0, ∞).
         oversampling: k, in [2, 10].
 
-    Source: book §11.12.4 (4 MHz beat → 8 MHz Nyquist, 10 MHz with k = 2.5).
+    Source: book §11.12.4 (4 MHz beat → 8 MHz Nyquist, 10 MHz with k = 2.5):
+
+    >>> float(fmcw_sample_rate_hz(4e6))
+    10000000.0
     """
     w = "fmcw_sample_rate_hz"
     _pos("max_beat_frequency_hz", max_beat_frequency_hz, w)
@@ -450,7 +496,11 @@ def real_aperture_cross_range_m(range_m, beamwidth_rad):
         range_m: range R (m), in (0, ∞).
         beamwidth_rad: azimuth 3 dB beamwidth θ (rad), in (0, π].
 
-    Source: book eq (12.38) (500 m × 1.5° = 13.1 m).
+    Source: book eq (12.38) (500 m × 1.5° = 13.1 m):
+
+    >>> import math
+    >>> float(real_aperture_cross_range_m(500.0, math.radians(1.5)))
+    13.1
     """
     w = "real_aperture_cross_range_m"
     _pos("range_m", range_m, w)
@@ -577,7 +627,10 @@ def hits_per_scan(beamwidth_deg, prf_hz, scan_rate_rpm):
         prf_hz: pulse repetition frequency f_p (Hz), in (0, ∞).
         scan_rate_rpm: antenna rotation rate ω_m (rpm), in (0, ∞).
 
-    Source: book eq (9.26) (Skolnik 1980); §9.9.1.1: 1.25° × 360 Hz / (6 × 6 rpm) = 12.5.
+    Source: book eq (9.26) (Skolnik 1980); §9.9.1.1: 1.25° × 360 Hz / (6 × 6 rpm) = 12.5:
+
+    >>> float(hits_per_scan(1.25, 360.0, 6.0))
+    12.5
     """
     w = "hits_per_scan"
     check_range("beamwidth_deg", beamwidth_deg, 0.0, 360.0, lo_open=True, where=w)

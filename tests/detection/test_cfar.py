@@ -28,7 +28,7 @@ from diffsense.errors import DomainError
 from diffsense.detection import cfar
 from diffsense.detection.cfar import cfar_loss_db, cfar_multiplier, cfar_pd, cfar_pfa, cfar_required_snr_db
 
-mpmath.mp.dps = 30
+MPMATH_DPS = 30  # working precision of this module's tests (set per test by tests/conftest.py)
 
 
 def _mp_pfa(alpha, m, n):

@@ -27,7 +27,7 @@ from diffsense.detection.matched_filter import (
     sine_integral,
 )
 
-mpmath.mp.dps = 30
+MPMATH_DPS = 30  # working precision of this module's tests (set per test by tests/conftest.py)
 
 
 # --------------------------------------------------------------------------------------

@@ -12,7 +12,7 @@ import pytest
 import diffsense  # noqa: F401
 from diffsense.numerics.rootfind import decreasing_root_log
 
-mp.mp.dps = 40
+MPMATH_DPS = 40  # working precision of this module's tests (set per test by tests/conftest.py)
 
 
 def _range_mp(c_db, alpha_db_per_km):

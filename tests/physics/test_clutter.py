@@ -23,15 +23,9 @@ import diffsense  # noqa: F401  (enables float64)
 from diffsense.physics import clutter as cl
 from diffsense.errors import DomainError
 
-from helpers.function_checks import (
-    assert_gradient_finite,
-    assert_gradient_matches_fd,
-    assert_jit_matches_eager,
-    assert_out_of_domain_raises,
-    assert_vmap_matches_loop,
-)
+from helpers.function_suite import function_suite
 
-mp.mp.dps = 30
+MPMATH_DPS = 30  # working precision of this module's tests (set per test by tests/conftest.py)
 
 # --------------------------------------------------------------------------------------
 # Transformation checks shared by every function: jit, vmap, gradient vs central
@@ -71,34 +65,8 @@ SPECS = [
     ("volume_reverberation_level", cl.volume_reverberation_level_db, [(150, 240, 0), (0, 120, 0), (-90, -10, 0), (10, 1e4, 1), (1e-3, 0.5, 1), (1e-3, 0.5, 1), (1e-5, 0.1, 1)], [(4, 0.0)], True),
     ("reflectivity_ts", cl.reflectivity_target_strength_db, [(-60.0, 10.0, 0), (1e-3, 1e4, 1)], [(1, 0.0), (0, 50.0)], True),
 ]
-SPEC_IDS = [s[0] for s in SPECS]
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=SPEC_IDS)
-def test_jit_matches_eager(spec):
-    assert_jit_matches_eager(spec, rel=1e-13, atol=1e-12)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=SPEC_IDS)
-def test_vmap_matches_loop(spec):
-    assert_vmap_matches_loop(spec, rtol=1e-12)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=SPEC_IDS)
-def test_gradient_matches_central_difference(spec):
-    assert_gradient_matches_fd(spec, value_floor=1.0)  # u = 0.23, 0.61: away from the Table 12.2 knots
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=SPEC_IDS)
-@settings(max_examples=30, deadline=None)
-@given(data=st.data())
-def test_gradient_finite_over_domain(spec, data):
-    assert_gradient_finite(spec, [data.draw(st.floats(0.0, 1.0)) for _ in spec[2]], value_floor=1.0, smooth=spec[4])
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=SPEC_IDS)
-def test_out_of_domain_raises(spec):
-    assert_out_of_domain_raises(spec)
+# u = 0.23, 0.61 (the central-difference points): away from the Table 12.2 knots
+globals().update(function_suite(SPECS, jit_rel=1e-13, jit_atol=1e-12, vmap_rtol=1e-12, value_floor=1.0))
 
 
 # --------------------------------------------------------------------------------------

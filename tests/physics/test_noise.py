@@ -1,44 +1,30 @@
-"""Noise models: receiver noise, photodetectors, sea noise, blackbody, radiometers, jamming.
+"""Receiver noise (diffsense.physics.noise): receiver noise, photodetectors, voltage noise,
+radiometers, jamming.
 
 References used by the assertions:
 - Brooker, *Introduction to Sensors for Ranging and Imaging* ("book"): §9.9.1.3 and §9.9.2
   (air-surveillance radar noise, worked example 2), §8.16.11 (ore-pass radar noise, worked
-  example 3), §12.8 eqs (12.61)–(12.66) and Table 12.2 (side-scan sonar noise, worked example
-  4), §11.12.4.8 (FMCW seeker noise, worked example 6).
-- Closed forms evaluated in mpmath: Stefan–Boltzmann law σT⁴ (CODATA σ), Wien's displacement
-  constant b = 2.897771955e-3 m·K (CODATA 2018), Friis transmission formula, McIntyre's
-  equivalent form F = M[1 − (1 − k)(M − 1)²/M²], Planck band integrals by mpmath.quad.
+  example 3), §11.12.4.8 (FMCW seeker noise, worked example 6). The side-scan sonar noise of
+  §12.8 is in test_sea_noise.py, blackbody radiation in test_radiance.py.
+- Closed forms evaluated in mpmath: Friis transmission formula, McIntyre's equivalent form
+  F = M[1 − (1 − k)(M − 1)²/M²].
 """
 
 import math
 
-import jax
 import jax.numpy as jnp
 import mpmath as mp
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 import diffsense  # noqa: F401  (enables float64)
 from diffsense.physics import noise as nz
 from diffsense.errors import DomainError
 
-from helpers.function_checks import (
-    assert_gradient_finite,
-    assert_gradient_matches_fd,
-    assert_jit_matches_eager,
-    assert_out_of_domain_raises,
-    assert_vmap_matches_loop,
-)
-from diffsense.physics.constants import (
-    BOLTZMANN_J_K,
-    PLANCK_J_S,
-    SPEED_OF_LIGHT_M_S,
-    STEFAN_BOLTZMANN_W_M2_K4,
-)
+from helpers.function_suite import function_suite
+from diffsense.physics.constants import BOLTZMANN_J_K
 
-mp.mp.dps = 30
+MPMATH_DPS = 30  # working precision of this module's tests (set per test by tests/conftest.py)
 BOOK_K = 1.38e-23  # the book's rounded Boltzmann constant
 
 
@@ -70,54 +56,16 @@ SPECS = [
     ("nep_from_dstar", nz.nep_from_detectivity_w, [(1e-10, 1e-2, 1), (1.0, 1e9, 1), (1e7, 1e13, 1)], [(2, 0.0)], True),
     ("dstar_from_nep", nz.detectivity_from_nep_jones, [(1e-10, 1e-2, 1), (1.0, 1e9, 1), (1e-15, 1e-6, 1)], [(0, 0.0)], True),
     ("nep_from_current", nz.nep_from_noise_current_w, [(1e-15, 1e-6, 1), (0.01, 100.0, 1)], [(1, 0.0)], True),
-    ("sea_noise_1khz", nz.sea_surface_noise_1khz_db, [(0.0, 6.0, 0)], [(0, 6.5)], False),
-    ("sea_noise_spectrum", nz.sea_surface_noise_spectrum_level_db, [(0.0, 6.0, 0), (500.0, 2e5, 1)], [(1, 100.0), (0, -1.0)], False),
-    ("thermal_sea_noise", nz.thermal_sea_noise_spectrum_level_db, [(1e3, 1e7, 1)], [(0, 10.0)], True),
-    ("ambient_sea_noise", nz.ambient_sea_noise_spectrum_level_db, [(0.0, 6.0, 0), (1e3, 2e5, 1)], [(1, 5e5)], False),
-    ("band_noise_level", nz.band_noise_level_db, [(-20.0, 120.0, 0), (1.0, 1e6, 1), (1.0, 1e4, 1)], [(2, 0.5), (1, 0.0)], True),
-    ("hydrophone_voltage", nz.hydrophone_voltage_v, [(0.0, 250.0, 0), (-220.0, -150.0, 0)], [(1, 10.0)], True),
     ("voltage_noise_rms", nz.voltage_noise_rms_v, [(1e-10, 1e-6, 1), (1.0, 1e8, 1)], [(0, -1e-9)], True),
     ("add_rms", nz.add_uncorrelated_rms, [(1e-9, 1.0, 1), (1e-9, 1.0, 1)], [(0, 0.0)], True),
-    ("planck_radiance", nz.planck_spectral_radiance, [(1e-7, 1e-3, 1), (50.0, 6000.0, 1)], [(0, 0.0), (1, 0.0)], True),
-    ("planck_exitance", nz.planck_spectral_exitance, [(1e-7, 1e-3, 1), (50.0, 6000.0, 1)], [(1, -5.0)], True),
-    ("band_radiance", nz.band_radiance_w_m2_sr, [(2e-7, 4e-6, 1), (5e-6, 1e-3, 1), (200.0, 6000.0, 1)], [(2, 0.0), (1, 20.0)], True),
-    ("band_exitance", nz.band_exitance_w_m2, [(2e-7, 4e-6, 1), (5e-6, 1e-3, 1), (200.0, 6000.0, 1)], [(0, 0.0)], True),
-    ("band_fraction", nz.band_fraction, [(2e-7, 4e-6, 1), (5e-6, 1e-3, 1), (200.0, 6000.0, 1)], [(2, -1.0)], True),
-    ("band_dL_dT", nz.band_radiance_temperature_derivative, [(2e-7, 4e-6, 1), (5e-6, 1e-3, 1), (200.0, 6000.0, 1)], [(2, 0.0)], True),
     ("total_power_dT", nz.total_power_radiometer_delta_t_k, [(10.0, 3000.0, 1), (1e6, 1e10, 1), (1e-3, 10.0, 1), (0.0, 1e-2, 0)], [(3, 2.0), (2, 0.0)], True),
     ("dicke_dT", nz.dicke_radiometer_delta_t_k, [(10.0, 3000.0, 1), (1e6, 1e10, 1), (1e-3, 10.0, 1)], [(1, 0.0)], True),
     ("antenna_temperature", lambda a, b, e, l: nz.antenna_temperature_k(a, b, e, radiation_efficiency=l), [(0.0, 400.0, 0), (0.0, 400.0, 0), (0.0, 1.0, 0), (0.5, 1.0, 0)], [(2, 1.1), (3, 0.0)], True),
     ("jammer_density", nz.jammer_noise_density_w_hz, [(1.0, 1e4, 1), (0.0, 20.0, 0), (0.0, 40.0, 0), (1e-3, 1.0, 1), (1e3, 1e6, 1), (1e5, 1e9, 1)], [(4, 0.0), (2, 90.0)], True),
     ("burn_through", lambda pt, g, s, pj, gj, bj, br, sjr: nz.self_screening_burn_through_range_m(pt, g, s, pj, gj, bj, br, sjr), [(1e3, 1e7, 1), (20.0, 45.0, 0), (0.1, 100.0, 1), (1.0, 1e3, 1), (0.0, 20.0, 0), (1e8, 1e9, 1), (1e5, 1e7, 1), (0.0, 20.0, 0)], [(0, 0.0), (6, 2e9)], True),
 ]
-SPEC_IDS = [s[0] for s in SPECS]
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=SPEC_IDS)
-def test_jit_matches_eager(spec):
-    assert_jit_matches_eager(spec, rel=1e-12, atol=lambda eager: 1e-12 * (abs(eager) > 1e-6))
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=SPEC_IDS)
-def test_vmap_matches_loop(spec):
-    assert_vmap_matches_loop(spec, rtol=1e-12)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=SPEC_IDS)
-def test_gradient_matches_central_difference(spec):
-    assert_gradient_matches_fd(spec, value_floor=1e-300)  # u = 0.23, 0.61: away from the Table 12.2 knots
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=SPEC_IDS)
-@settings(max_examples=30, deadline=None)
-@given(data=st.data())
-def test_gradient_finite_over_domain(spec, data):
-    assert_gradient_finite(spec, [data.draw(st.floats(0.0, 1.0)) for _ in spec[2]], value_floor=1e-300, smooth=spec[4])
-
-
-@pytest.mark.parametrize("spec", [s for s in SPECS if s[3]], ids=[s[0] for s in SPECS if s[3]])
-def test_out_of_domain_raises(spec):
-    assert_out_of_domain_raises(spec)
+globals().update(function_suite(SPECS, jit_rel=1e-12, jit_atol=lambda eager: 1e-12 * (abs(eager) > 1e-6),
+                                vmap_rtol=1e-12, value_floor=1e-300))
 
 
 def test_cascade_out_of_domain_raises():
@@ -125,11 +73,6 @@ def test_cascade_out_of_domain_raises():
         _cascade2_domain_probe(20.0, -1.0, 10.0, 3.0)
     with pytest.raises(DomainError):
         _cascade2_domain_probe(200.0, 1.0, 10.0, 3.0)
-
-
-def test_band_integral_rejects_reversed_band():
-    with pytest.raises(DomainError):
-        nz.band_radiance_w_m2_sr(10e-6, 8e-6, 300.0)
 
 
 def test_burn_through_rejects_receiver_wider_than_jammer():
@@ -174,49 +117,6 @@ def test_fmcw_seeker_noise_book_11_12_4_8():
     # bin 1.3 × 5 MHz / 2048 ≈ 3 kHz, NF 15 dB → −154 dBW (unrounded −153.96)
     n = float(nz.receiver_noise_power_dbw(1.3 * 5e6 / 2048, 15.0))
     assert n == pytest.approx(-154.0, abs=0.05)
-
-
-def test_side_scan_sea_noise_book_12_8():
-    # N_f = 65 − 17 log10 117 = 30 dB (29.84); L_N = 30 + 10 log10(3000) − 10 log10(458.4) = 38 dB
-    nf = float(nz.sea_surface_noise_spectrum_level_db(3.0, 117e3))
-    assert nf == pytest.approx(30.0, abs=0.2)
-    ln = float(nz.band_noise_level_db(nf, 3e3, 458.4))
-    assert ln == pytest.approx(38.0, abs=0.05)
-
-
-def test_side_scan_op_amp_noise_book_12_8():
-    # signal: 50 dB re 1 µPa with −180 dB re 1 V/µPa → 320 nV (exactly 316 nV; book rounds)
-    sig = float(nz.hydrophone_voltage_v(50.0, -180.0))
-    assert sig == pytest.approx(320e-9, rel=0.015)
-    # noise floor 38 dB → 79 nV; op amp 1.2 nV/√Hz in 3 kHz → 66 nV; total 102 nV
-    floor = float(nz.hydrophone_voltage_v(38.0, -180.0))
-    assert floor == pytest.approx(79e-9, rel=0.01)
-    amp = float(nz.voltage_noise_rms_v(1.2e-9, 3e3))
-    assert amp == pytest.approx(66e-9, rel=0.01)
-    total = float(nz.add_uncorrelated_rms(floor, amp))
-    # sqrt(79² + 66²) = 102.9 nV, printed 102 nV: tolerance 1.5 %
-    assert total == pytest.approx(102e-9, rel=0.015)
-    # SNR with the op amp: 20 log10(320/102) = 9.9 dB (book's rounded voltages); with the
-    # unrounded 316 nV and 103.1 nV it is 9.73 dB: tolerance 0.2 dB
-    assert 20 * math.log10(sig / total) == pytest.approx(9.9, abs=0.2)
-
-
-def test_sea_noise_table_12_2_levels():
-    for ss, level in zip((0.0, 0.5, 1.0, 2.0, 3.0, 6.0), (45, 50, 55, 60, 65, 70)):
-        assert float(nz.sea_surface_noise_1khz_db(ss)) == pytest.approx(level, abs=1e-12)
-    # −17 dB per decade
-    d = float(nz.sea_surface_noise_spectrum_level_db(2.0, 10e3) - nz.sea_surface_noise_spectrum_level_db(2.0, 100e3))
-    assert d == pytest.approx(17.0, abs=1e-12)
-
-
-def test_thermal_sea_noise_and_crossover_mellen():
-    # N_therm = −15 + 20 log10 f_kHz: 25 dB at 100 kHz
-    assert float(nz.thermal_sea_noise_spectrum_level_db(100e3)) == pytest.approx(25.0, abs=1e-12)
-    # sea state 0 (45 dB at 1 kHz) meets thermal noise where 45 − 17 x = −15 + 20 x, x = 60/37;
-    # there the power sum is 3.01 dB above either
-    f = 1e3 * 10 ** (60 / 37)
-    level = 45 - 17 * 60 / 37
-    assert float(nz.ambient_sea_noise_spectrum_level_db(0.0, f)) == pytest.approx(level + 10 * math.log10(2), abs=1e-10)
 
 
 # --------------------------------------------------------------------------------------
@@ -292,73 +192,6 @@ def test_nep_detectivity_conversions_book_eq_9_8():
     assert float(nz.nep_from_detectivity_w(1e-6, 1e4, 1e10)) == pytest.approx(1e-9, rel=1e-14)
     assert float(nz.detectivity_from_nep_jones(1e-6, 1e4, 1e-9)) == pytest.approx(1e10, rel=1e-14)
     assert float(nz.nep_from_noise_current_w(1e-9, 0.5)) == pytest.approx(2e-9, rel=1e-14)
-
-
-# --------------------------------------------------------------------------------------
-# Blackbody
-# --------------------------------------------------------------------------------------
-
-
-def _mp_planck_band(l1, l2, t, deriv=False):
-    h, c, k = mp.mpf(PLANCK_J_S), mp.mpf(SPEED_OF_LIGHT_M_S), mp.mpf(BOLTZMANN_J_K)
-
-    def f(lam):
-        x = h * c / (lam * k * t)
-        rad = 2 * h * c**2 / lam**5 / mp.expm1(x)
-        return rad * x * mp.exp(x) / (mp.expm1(x) * t) if deriv else rad
-
-    # split at the radiance peak region for mpmath's tanh-sinh
-    pts = sorted({mp.mpf(l1), mp.mpf(l2)} | {p for p in (mp.mpf("2.9e-3") / t * s for s in (0.5, 1, 2, 5)) if l1 < p < l2})
-    return mp.quad(f, pts)
-
-
-def test_planck_spectral_radiance_closed_form_and_wien_peak():
-    h, c, k = mp.mpf(PLANCK_J_S), mp.mpf(SPEED_OF_LIGHT_M_S), mp.mpf(BOLTZMANN_J_K)
-    lam, t = mp.mpf("10e-6"), mp.mpf(300)
-    ref = 2 * h * c**2 / lam**5 / mp.expm1(h * c / (lam * k * t))
-    assert float(nz.planck_spectral_radiance(10e-6, 300.0)) == pytest.approx(float(ref), rel=1e-13)
-    assert float(nz.planck_spectral_exitance(10e-6, 300.0)) == pytest.approx(float(mp.pi * ref), rel=1e-13)
-    # Wien: dL_λ/dλ = 0 at λ = b/T, b = 2.897771955e-3 m K (CODATA 2018)
-    for temp in (300.0, 1000.0, 5800.0):
-        lam_max = 2.897771955e-3 / temp
-        slope = float(jax.grad(nz.planck_spectral_radiance)(lam_max, temp))
-        scale = float(nz.planck_spectral_radiance(lam_max, temp)) / lam_max
-        assert abs(slope) < 1e-8 * scale
-
-
-def test_total_exitance_stefan_boltzmann():
-    # 10 nm – 1 m at 300 K holds all but ~1e-14 of σT⁴
-    for t in (300.0,):
-        m = float(nz.band_exitance_w_m2(1e-8, 1.0, t))
-        assert m == pytest.approx(STEFAN_BOLTZMANN_W_M2_K4 * t**4, rel=1e-9)  # σ quoted to 10 digits
-    # 10 nm – 10 m at 5800 K (ratio 1e9: 10 panels)
-    m = float(nz.band_exitance_w_m2(1e-8, 10.0, 5800.0, n_panels=10))
-    assert m == pytest.approx(STEFAN_BOLTZMANN_W_M2_K4 * 5800.0**4, rel=1e-9)
-
-
-@pytest.mark.parametrize(
-    "l1,l2,t",
-    [(8e-6, 12e-6, 300.0), (3e-6, 5e-6, 300.0), (0.4e-6, 0.7e-6, 5800.0), (0.2e-6, 1e-3, 200.0), (1e-6, 2e-6, 6000.0), (0.3e-6, 1e-3, 1000.0)],
-)
-def test_band_radiance_and_derivative_vs_mpmath(l1, l2, t):
-    ref = _mp_planck_band(l1, l2, t)
-    assert float(nz.band_radiance_w_m2_sr(l1, l2, t)) == pytest.approx(float(ref), rel=1e-12)
-    frac = ref * mp.pi / (mp.mpf(STEFAN_BOLTZMANN_W_M2_K4) * mp.mpf(t) ** 4)
-    assert float(nz.band_fraction(l1, l2, t)) == pytest.approx(float(frac), rel=1e-9)  # σ to 10 digits
-    dref = _mp_planck_band(l1, l2, t, deriv=True)
-    assert float(nz.band_radiance_temperature_derivative(l1, l2, t)) == pytest.approx(float(dref), rel=1e-12)
-    # and the autodiff derivative of the band radiance agrees
-    g = float(jax.grad(nz.band_radiance_w_m2_sr, argnums=2)(l1, l2, t))
-    assert g == pytest.approx(float(dref), rel=1e-11)
-
-
-def test_band_fraction_wien_quarter():
-    # F(0 → λT = b) = 0.25005 (from 15/π⁴ ∫_{x_b}^∞ x³/(e^x − 1) dx, x_b = hc/(k b) = 4.965)
-    xb = mp.mpf(PLANCK_J_S) * mp.mpf(SPEED_OF_LIGHT_M_S) / (mp.mpf(BOLTZMANN_J_K) * mp.mpf("2.897771955e-3"))
-    ref = 15 / mp.pi**4 * mp.quad(lambda x: x**3 / mp.expm1(x), [xb, 20, 60, mp.inf])
-    got = float(nz.band_fraction(1e-9, 2.897771955e-3 / 1000.0, 1000.0))
-    assert got == pytest.approx(float(ref), rel=1e-12)
-    assert got == pytest.approx(0.25005, abs=1e-5)
 
 
 # --------------------------------------------------------------------------------------

@@ -24,21 +24,13 @@ import pytest
 import scipy.linalg
 import scipy.optimize
 import scipy.signal
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 import diffsense  # noqa: F401  (enables float64)
 from diffsense.physics import tracking as tr
 from diffsense.errors import DomainError
 from diffsense.numerics.rootfind import decreasing_root_log
 
-from helpers.function_checks import (
-    assert_gradient_finite,
-    assert_gradient_matches_fd,
-    assert_jit_matches_eager,
-    assert_out_of_domain_raises,
-    assert_vmap_matches_loop,
-)
+from helpers.function_suite import function_suite
 
 _MEAS = np.sin(0.3 * np.arange(40)) + 0.05 * np.arange(40)
 
@@ -98,44 +90,19 @@ SPECS = [
     ("lag", tr.alpha_beta_acceleration_lag_m, [(-100.0, 100.0, 0), (1e-3, 10.0, 1), (0.01, 1.0, 0), (1e-3, 1.0, 1)], [(1, 0.0), (2, 0.0)]),
     ("lag_pred", _pred_lag, [(-100.0, 100.0, 0), (1e-3, 10.0, 1), (0.01, 1.0, 0), (1e-3, 1.0, 1)], [(3, -1.0)]),
     ("split_gate", tr.split_gate_range_noise_m, [(0.01, 1e3, 1), (-20.0, 100.0, 0)], [(1, 150.0), (0, 0.0)]),
+    ("ab_cost", tr.alpha_beta_tracking_cost_m2, [(0.01, 1.0, 0), (1e-3, 1.0, 0), (-100.0, 100.0, 0), (1e-3, 1.0, 1), (1e-3, 10.0, 1)], [(4, -1.0), (3, 0.0)]),
     ("bb_cost", tr.benedict_bordner_tracking_cost_m2, [(0.01, 1.0, 0), (1e-3, 100.0, 1), (1.0, 1e4, 1), (1e-3, 10.0, 1)], [(0, 1.1), (3, -1.0)]),
     ("bb_alpha_opt", tr.benedict_bordner_optimal_alpha, [(0.1, 100.0, 1), (1.0, 1e3, 1), (0.01, 10.0, 1)], [(0, 0.0), (2, 0.0)]),
     ("servo_ka", tr.servo_acceleration_error_constant_s2, [(0.01, 100.0, 1)], [(0, 0.0)]),
     ("servo_lag", tr.servo_dynamic_lag_rad, [(-100.0, 100.0, 0), (0.01, 100.0, 1)], [(1, -1.0)]),
+    ("servo_noise", tr.servo_angle_noise_variance_rad2, [(0.01, 100.0, 1)] + [_SERVO[i] for i in (0, 1, 2, 3, 6)], [(0, 0.0), (1, 4.0), (4, -30.0)]),
     ("servo_var", tr.servo_angle_error_variance_rad2, [(0.01, 100.0, 1)] + _SERVO, [(0, 0.0), (1, 4.0), (4, -30.0)]),
     ("servo_opt", tr.servo_optimal_bandwidth_hz, _SERVO, [(0, 0.0), (5, 0.0), (6, -1.0)]),
     ("kalata_index", tr.kalata_tracking_index, [(1e-3, 1e3, 1), (1e-3, 10.0, 1), (1e-3, 1e3, 1)], [(0, 0.0), (2, -1.0)]),
     ("kalman_alpha", _kalman_alpha, [(1e-6, 1e6, 1)], [(0, 0.0)]),
     ("kalman_beta", _kalman_beta, [(1e-6, 1e6, 1)], [(0, -1.0)]),
 ]
-IDS = [s[0] for s in SPECS]
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_jit_matches_eager(spec):
-    assert_jit_matches_eager(spec, rel=1e-12, atol=1e-300)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_vmap_matches_loop(spec):
-    assert_vmap_matches_loop(spec, rtol=1e-12)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_gradient_matches_central_difference(spec):
-    assert_gradient_matches_fd(spec, value_floor=1e-300)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-@settings(max_examples=30, deadline=None)
-@given(data=st.data())
-def test_gradient_finite_over_domain(spec, data):
-    assert_gradient_finite(spec, [data.draw(st.floats(0.0, 1.0)) for _ in spec[2]], value_floor=1e-300)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_out_of_domain_raises(spec):
-    assert_out_of_domain_raises(spec)
+globals().update(function_suite(SPECS, jit_rel=1e-12, jit_atol=1e-300, vmap_rtol=1e-12, value_floor=1e-300))
 
 
 # --------------------------------------------------------------------------------------------
@@ -373,6 +340,26 @@ def test_servo_lag_term_is_the_squared_dynamic_lag_eq_14_10():
         noise = theta**2 * bn / (2 * km**2 * fr * bt * 1e10)
         assert var == pytest.approx(lag**2 + noise, rel=1e-14)
         assert lag == pytest.approx((a / r) / float(tr.servo_acceleration_error_constant_s2(bn)), rel=1e-15)
+
+
+def test_servo_noise_term_is_the_first_term_of_eq_14_11():
+    theta, fr, bt, a, r, km, snr_db = 0.02, 1000.0, 1.0, 30.0, 800.0, 1.6, 20.0
+    for bn in (0.5, 2.0, 8.0):
+        noise = float(tr.servo_angle_noise_variance_rad2(bn, theta, fr, bt, snr_db, km))
+        assert noise == pytest.approx(theta**2 * bn / (2 * km**2 * fr * bt * 100.0), rel=1e-14)
+        var = float(tr.servo_angle_error_variance_rad2(bn, theta, fr, bt, snr_db, a, r, km))
+        assert var - noise == pytest.approx(float(tr.servo_dynamic_lag_rad(a / r, bn)) ** 2, rel=1e-12)
+
+
+@pytest.mark.parametrize("alpha", [0.05, 0.3, 0.8, 1.0])
+def test_general_tracking_cost_is_lag_squared_plus_smoothed_noise(alpha):
+    a, fs, sigma = 10.0, 50.0, 0.27
+    beta = float(tr.benedict_bordner_beta(alpha))
+    cost = float(tr.alpha_beta_tracking_cost_m2(alpha, beta, a, 1.0 / fs, sigma))
+    assert cost == pytest.approx(float(tr.benedict_bordner_tracking_cost_m2(alpha, a, fs, sigma)), rel=1e-15)
+    lag = float(tr.alpha_beta_acceleration_lag_m(a, 1.0 / fs, alpha, beta))
+    vrr = float(tr.alpha_beta_position_variance_ratio(alpha, beta))
+    assert cost == pytest.approx(lag**2 + sigma**2 * vrr, rel=1e-15)
 
 
 # --------------------------------------------------------------------------------------------

@@ -19,21 +19,13 @@ import math
 import mpmath as mp
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 import diffsense  # noqa: F401  (enables float64)
 from diffsense.physics import waveforms as wf
 from diffsense.errors import DomainError
 from diffsense.physics.constants import SPEED_OF_LIGHT_M_S
 
-from helpers.function_checks import (
-    assert_gradient_finite,
-    assert_gradient_matches_fd,
-    assert_jit_matches_eager,
-    assert_out_of_domain_raises,
-    assert_vmap_matches_loop,
-)
+from helpers.function_suite import function_suite
 
 BOOK_C = 3e8  # the book rounds c to 3e8 m/s
 SEA_C = 1522.0  # the book's sound speed for the side-scan sonar (§12.7)
@@ -79,34 +71,8 @@ SPECS = [
     ("dbs_xr", wf.dbs_cross_range_m, [(1e2, 1e5, 1), (1e-3, 0.1, 1), (10.0, 300.0, 1), (1e-3, 1.0, 1), (0.05, 3.09, 0)], [(4, 0.0), (4, 3.2)]),
     ("hits", wf.hits_per_scan, [(0.1, 10.0, 1), (10.0, 1e4, 1), (1.0, 60.0, 1)], [(0, 0.0), (0, 400.0)]),
 ]
-IDS = [s[0] for s in SPECS]
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_jit_matches_eager(spec):
-    assert_jit_matches_eager(spec, rel=1e-13, atol=1e-300)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_vmap_matches_loop(spec):
-    assert_vmap_matches_loop(spec, rtol=1e-13, broadcast=True)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_gradient_matches_central_difference(spec):
-    assert_gradient_matches_fd(spec, value_floor=1e-300)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-@settings(max_examples=30, deadline=None)
-@given(data=st.data())
-def test_gradient_finite_over_domain(spec, data):
-    assert_gradient_finite(spec, [data.draw(st.floats(0.0, 1.0)) for _ in spec[2]], value_floor=1e-300)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_out_of_domain_raises(spec):
-    assert_out_of_domain_raises(spec)
+globals().update(function_suite(SPECS, jit_rel=1e-13, jit_atol=1e-300, vmap_rtol=1e-13, broadcast=True,
+                                value_floor=1e-300))
 
 
 # --------------------------------------------------------------------------------------------

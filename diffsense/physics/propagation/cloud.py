@@ -66,8 +66,17 @@ def cloud_attenuation_coefficient(freq_hz, temperature_k):
         temperature_k: cloud liquid water temperature (K), [233.15, 323.15].
 
     Accuracy: exact evaluation of the recommendation's equations (Rayleigh approximation,
-    valid for droplets << wavelength). Example: 0 °C, 30 GHz -> 0.771; 20 °C, 94 GHz -> 3.78.
+    valid for droplets << wavelength).
     Source: Rec. ITU-R P.840-7 (12/2017), §2, eqs. (2)-(10).
+
+    The ITU-R SG3 validation examples for P.840-8 (CG-3M3J-13-ValEx-Rev5.1), which evaluate
+    K_l at 273.15 K with the same equations, give cloud attenuations 1.77246907 dB at 29 GHz
+    and 0.45516982 dB at 14.25 GHz for the same path, hence the ratio of K_l:
+
+    >>> float(cloud_attenuation_coefficient(29e9, 273.15) / cloud_attenuation_coefficient(14.25e9, 273.15))
+    3.894083
+    >>> 1.77246907 / 0.45516982
+    3.894083
     """
     eps_real, eps_imag = liquid_water_permittivity(freq_hz, temperature_k)
     f = jnp.asarray(freq_hz, dtype=float) / 1e9

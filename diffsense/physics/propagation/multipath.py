@@ -28,6 +28,7 @@ Skolnik, *Introduction to Radar Systems* 3rd ed. §8.2)::
 * sigma_h from the sea state: WMO sea-state code significant wave heights H_1/3 (code
   0: 0, 1: 0-0.1, 2: 0.1-0.5, 3: 0.5-1.25, 4: 1.25-2.5, 5: 2.5-4, 6: 4-6, 7: 6-9, 8: 9-14 m);
   the mid-band H_1/3 is used with sigma_h = H_1/3 / 4 (Rayleigh-distributed wave heights).
+  The table and :func:`rms_wave_height_from_sea_state_m` live in :mod:`diffsense.physics.sea_state`.
 
 Valid in the interference region, from a few metres of range out to the radar horizon
 (d(h1) + d(h2)); near and beyond the horizon diffraction dominates and the two-ray result
@@ -37,13 +38,15 @@ overestimates F (no diffraction model here).
 from __future__ import annotations
 
 import jax.numpy as jnp
+import numpy as np
 from jax.scipy.special import i0e
 
 from diffsense.errors import DomainError
 from diffsense.numerics.checks import check_choice, check_range, is_concrete
+from diffsense.numerics.db import db20
 from diffsense.physics.constants import SPEED_OF_LIGHT_M_S
-
 from diffsense.physics.propagation.refraction import EARTH_RADIUS_M, radar_horizon_m
+from diffsense.physics.sea_state import SEA_STATE_SIGNIFICANT_WAVE_HEIGHT_M, rms_wave_height_from_sea_state_m
 
 __all__ = [
     "SEA_STATE_SIGNIFICANT_WAVE_HEIGHT_M",
@@ -58,10 +61,6 @@ __all__ = [
 
 _WHERE = "two-ray multipath"
 _EPS0 = 8.8541878128e-12  # vacuum permittivity (F/m), CODATA 2018
-
-# WMO sea-state code: mid-band significant wave height H_1/3 (m)
-SEA_STATE_SIGNIFICANT_WAVE_HEIGHT_M = {0: 0.0, 1: 0.05, 2: 0.3, 3: 0.875, 4: 1.875, 5: 3.25,
-                                       6: 5.0, 7: 7.5, 8: 11.5}
 
 
 def sea_water_permittivity(freq_hz, temperature_k=288.15, salinity_psu=35.0):
@@ -78,6 +77,12 @@ def sea_water_permittivity(freq_hz, temperature_k=288.15, salinity_psu=35.0):
 
     Source: L. A. Klein and C. T. Swift, "An improved model for the dielectric constant of
     sea water at microwave frequencies", IEEE Trans. AP-25(1):104-111, 1977, eqs. (13)-(21).
+
+    At low frequency pure water (S = 0) shows its static permittivity, 80.1 at 20 °C (the
+    handbook value):
+
+    >>> float(sea_water_permittivity(1e8, 293.15, 0.0).real)
+    80.1
     """
     check_range("freq_hz", freq_hz, 1e8, 1e11, where=_WHERE)
     check_range("temperature_k", temperature_k, 271.15, 308.15, where=_WHERE)
@@ -106,6 +111,17 @@ def fresnel_reflection_coefficient(grazing_rad, permittivity, polarization="hori
     ``grazing_rad`` psi in [0, pi/2]; ``permittivity`` complex relative eps (eps'' >= 0 as
     -Im); ``polarization`` "horizontal" or "vertical" (static). At psi = 0 both tend to -1.
     Source: e.g. Skolnik (2001) §8.2; Blake (1986) eqs. (6.33)-(6.34).
+
+    At normal incidence on eps = 4 (refractive index 2): -(2 - 1)/(2 + 1) for horizontal and
+    +1/3 for vertical polarization; at grazing incidence -1:
+
+    >>> import math
+    >>> h = fresnel_reflection_coefficient(math.pi / 2, 4.0)
+    >>> v = fresnel_reflection_coefficient(math.pi / 2, 4.0, "vertical")
+    >>> float(h.real), float(v.real)
+    (-0.333333, 0.333333)
+    >>> abs(complex(fresnel_reflection_coefficient(0.0, 81 - 70j, "vertical")) + 1) < 1e-15
+    True
     """
     check_choice("polarization", polarization, ("horizontal", "vertical"), where=_WHERE)
     check_range("grazing_rad", grazing_rad, 0.0, jnp.pi / 2, where=_WHERE)
@@ -118,19 +134,22 @@ def fresnel_reflection_coefficient(grazing_rad, permittivity, polarization="hori
     return (eps * sin_psi - root) / (eps * sin_psi + root)
 
 
-def rms_wave_height_from_sea_state_m(sea_state):
-    """RMS sea-surface height sigma_h = H_1/3 / 4 (m) for a WMO sea-state code 0..8 (static int)."""
-    if sea_state not in SEA_STATE_SIGNIFICANT_WAVE_HEIGHT_M:
-        raise DomainError(f"{_WHERE}: argument 'sea_state' must be an integer 0..8; got {sea_state!r}")
-    return SEA_STATE_SIGNIFICANT_WAVE_HEIGHT_M[sea_state] / 4.0
-
-
 def roughness_factor(rms_wave_height_m, grazing_rad, wavelength_m, model="miller_brown_vegh"):
     """Specular-reflection roughness factor rho_s for an rms surface height sigma_h (m).
 
     g = 2 pi sigma_h sin(psi)/lambda;  "ament": exp(-2 g^2);
     "miller_brown_vegh": exp(-2 g^2) I0(2 g^2) (computed as the scaled Bessel i0e(2 g^2)).
     Sources: Ament (1953) Proc. IRE 41:142; Miller, Brown & Vegh (1984) IEE Proc. 131H:114.
+
+    sigma_h = 0.3 m at 2 deg grazing and 3 cm (g = 2.19), against scipy's Bessel function:
+
+    >>> import math
+    >>> from scipy.special import i0
+    >>> g = 2 * math.pi * 0.3 * math.sin(math.radians(2.0)) / 0.03
+    >>> float(roughness_factor(0.3, math.radians(2.0), 0.03)), float(math.exp(-2 * g**2) * i0(2 * g**2))
+    (0.130429, 0.130429)
+    >>> float(roughness_factor(0.3, math.radians(2.0), 0.03, "ament")), math.exp(-2 * g**2)
+    (6.66041e-05, 6.66041e-05)
     """
     check_choice("model", model, ("ament", "miller_brown_vegh"), where=_WHERE)
     check_range("rms_wave_height_m", rms_wave_height_m, 0.0, 10.0, where=_WHERE)
@@ -197,7 +216,6 @@ def _check_path(range_m, antenna_height_m, target_height_m, freq_hz, k_factor, e
     check_range("k_factor", k_factor, 0.5, 10.0, where=_WHERE)
     args = (range_m, antenna_height_m, target_height_m, k_factor)
     if all(is_concrete(x) for x in args):
-        import numpy as np
         r, h1, h2 = (np.asarray(x, float) for x in args[:3])
         if np.any(r <= np.abs(h1 - h2)):
             raise DomainError(f"{_WHERE}: 'range_m' must exceed |antenna_height_m - target_height_m|")
@@ -224,16 +242,28 @@ def two_ray_propagation_factor(range_m, antenna_height_m, target_height_m, freq_
         k_factor: effective earth radius factor (4/3). earth_model: "curved" or "flat".
 
     Free-space antenna patterns are taken as equal on both rays (low-elevation path).
-    Flat earth, Gamma = -1: F = 2 |sin(pi delta/lambda)| ≈ 2 |sin(2 pi h1 h2/(lambda R))|.
+    Flat earth, Gamma = -1: F = 2 |sin(pi delta/lambda)| ≈ 2 |sin(2 pi h1 h2/(lambda R))|,
+    with the path difference delta = sqrt(G^2 + (h1 + h2)^2) - R:
+
+    >>> import math
+    >>> r, h1, h2, lam = 5e3, 10.0, 30.0, 299792458.0 / 3e9
+    >>> delta = math.sqrt(r**2 - (h1 - h2) ** 2 + (h1 + h2) ** 2) - r
+    >>> float(two_ray_propagation_factor(r, h1, h2, 3e9, earth_model="flat")), 2 * abs(math.sin(math.pi * delta / lam))
+    (1.17972, 1.17972)
     """
     _check_path(range_m, antenna_height_m, target_height_m, freq_hz, k_factor, earth_model)
     geo = two_ray_geometry(range_m, antenna_height_m, target_height_m, k_factor, earth_model)
     lam = SPEED_OF_LIGHT_M_S / jnp.asarray(freq_hz, dtype=float)
-    phase = 2.0 * jnp.pi * geo["path_difference"] / lam
     amp = jnp.asarray(reflection_coefficient, dtype=complex) * jnp.asarray(roughness, dtype=float) * geo["divergence"]
+    return jnp.sqrt(_two_ray_power(amp, geo["path_difference"] / lam))
+
+
+def _two_ray_power(amp, path_difference_wavelengths):
+    """|1 + amp exp(-j 2 pi delta/lambda)|^2 from its real and imaginary parts (F^2, one way)."""
+    phase = 2.0 * jnp.pi * path_difference_wavelengths
     re = 1.0 + jnp.real(amp) * jnp.cos(phase) + jnp.imag(amp) * jnp.sin(phase)
     im = jnp.imag(amp) * jnp.cos(phase) - jnp.real(amp) * jnp.sin(phase)
-    return jnp.sqrt(re**2 + im**2)
+    return re**2 + im**2
 
 
 def propagation_factor_db(range_m, antenna_height_m, target_height_m, freq_hz, sea_state=3,
@@ -273,16 +303,7 @@ def propagation_factor_db(range_m, antenna_height_m, target_height_m, freq_hz, s
     psi = geo["grazing_rad"]
     lam = SPEED_OF_LIGHT_M_S / jnp.asarray(freq_hz, dtype=float)
     eps = sea_water_permittivity(freq_hz, sea_temperature_k, salinity_psu)
-    root = jnp.sqrt(eps - jnp.cos(psi) ** 2)
-    sin_psi = jnp.sin(psi)
-    if polarization == "horizontal":
-        gamma = (sin_psi - root) / (sin_psi + root)
-    else:
-        gamma = (eps * sin_psi - root) / (eps * sin_psi + root)
-    g = 2.0 * jnp.pi * jnp.asarray(sigma_h, dtype=float) * sin_psi / lam
-    rho_s = jnp.exp(-2.0 * g**2) if roughness_model == "ament" else i0e(2.0 * g**2)
-    phase = 2.0 * jnp.pi * geo["path_difference"] / lam
+    gamma = fresnel_reflection_coefficient(psi, eps, polarization)
+    rho_s = roughness_factor(sigma_h, psi, lam, roughness_model)
     amp = gamma * rho_s * geo["divergence"]
-    re = 1.0 + jnp.real(amp) * jnp.cos(phase) + jnp.imag(amp) * jnp.sin(phase)
-    im = jnp.imag(amp) * jnp.cos(phase) - jnp.real(amp) * jnp.sin(phase)
-    return 20.0 / jnp.log(10.0) * jnp.log(re**2 + im**2)  # 40 log10 |F| = 20 log10 |F|^2
+    return db20(_two_ray_power(amp, geo["path_difference"] / lam))  # 40 log10 |F| = 20 log10 |F|^2

@@ -21,6 +21,7 @@ from __future__ import annotations
 import jax.numpy as jnp
 
 from diffsense.numerics.checks import check_choice, check_range
+from diffsense.numerics.db import DB_PER_NEPER
 
 __all__ = [
     "koschmieder_extinction_per_m",
@@ -36,6 +37,10 @@ def koschmieder_extinction_per_m(visibility_m):
     """Extinction coefficient beta = 3.912 / V (1/m) at 550 nm (Koschmieder, 2 % contrast).
 
     ``visibility_m``: meteorological visibility V (m), [1, 1e6]. Exact by definition of V.
+
+    >>> import math
+    >>> float(koschmieder_extinction_per_m(1e3)) * 1e3, -math.log(0.02)   # beta V = -ln 0.02
+    (3.912, 3.912)
     """
     check_range("visibility_m", visibility_m, 1.0, 1e6, where=_WHERE)
     return KOSCHMIEDER_CONSTANT / jnp.asarray(visibility_m, dtype=float)
@@ -45,6 +50,11 @@ def size_distribution_exponent(visibility_m, model="kim"):
     """Size-distribution exponent q(V) of the Kim (2001) or Kruse (1962) model.
 
     ``visibility_m`` V (m), [1, 1e6]; ``model`` "kim" or "kruse" (static). See module docstring.
+
+    >>> float(size_distribution_exponent(3e3)), 0.16 * 3 + 0.34                        # Kim, 1 < V <= 6 km
+    (0.82, 0.82)
+    >>> float(size_distribution_exponent(3e3, "kruse")), 0.585 * 3 ** (1 / 3)          # Kruse, V <= 6 km
+    (0.843716, 0.843716)
     """
     check_choice("model", model, ("kim", "kruse"), where=_WHERE)
     check_range("visibility_m", visibility_m, 1.0, 1e6, where=_WHERE)
@@ -67,10 +77,14 @@ def laser_extinction_db_per_km(visibility_m, wavelength_m, model="kim"):
 
     Error: empirical scattering-only fits (no molecular absorption); Kim et al. report the
     Kruse law overestimates the wavelength dependence in fog (V < 0.5 km).
-    Example: V = 1 km, 1550 nm, Kim: q = 0.5 -> 16.99 * (1550/550)^-0.5 = 10.12 dB/km.
+    Example: V = 1 km, 1550 nm, Kim: q = 0.5 -> 16.99 * (1550/550)^-0.5 = 10.12 dB/km:
+
+    >>> import math
+    >>> float(laser_extinction_db_per_km(1e3, 1550e-9)), 10 * math.log10(math.e) * 3.912 * (1550 / 550) ** -0.5
+    (10.12, 10.12)
     """
     check_range("wavelength_m", wavelength_m, 2e-7, 2e-5, where=_WHERE)
     q = size_distribution_exponent(visibility_m, model)
     beta_per_km = KOSCHMIEDER_CONSTANT / (jnp.asarray(visibility_m, dtype=float) / 1e3)
     ratio = jnp.asarray(wavelength_m, dtype=float) / 550e-9
-    return 10.0 / jnp.log(10.0) * beta_per_km * jnp.exp(-q * jnp.log(ratio))
+    return DB_PER_NEPER * beta_per_km * jnp.exp(-q * jnp.log(ratio))

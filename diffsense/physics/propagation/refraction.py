@@ -30,7 +30,11 @@ _WHERE = "refraction / radar horizon"
 
 
 def effective_earth_radius_m(k_factor=4.0 / 3.0):
-    """Effective earth radius k a (m), a = 6371 km; ``k_factor`` in [0.5, 10] (4/3 standard)."""
+    """Effective earth radius k a (m), a = 6371 km; ``k_factor`` in [0.5, 10] (4/3 standard).
+
+    >>> float(effective_earth_radius_m())      # 4/3 x 6371 km
+    8494666.67
+    """
     check_range("k_factor", k_factor, 0.5, 10.0, where=_WHERE)
     return jnp.asarray(k_factor, dtype=float) * EARTH_RADIUS_M
 
@@ -40,6 +44,11 @@ def horizon_distance_m(height_m, k_factor=4.0 / 3.0):
 
     ``height_m`` h (m) in [0, 1e5]; exact in the effective-earth model. The derivative in h
     is finite for h > 0; at exactly h = 0 (where it is infinite) it is returned as 0.
+
+    The classic rule d[km] = 4.12 sqrt(h[m]) (= sqrt(2 k a h) with k = 4/3, a = 6371 km):
+
+    >>> float(horizon_distance_m(100.0)) / 1e3, 4.12 * 100.0**0.5
+    (41.2, 41.2)
     """
     check_range("height_m", height_m, 0.0, 1e5, where=_WHERE)
     ae = effective_earth_radius_m(k_factor)
@@ -55,6 +64,10 @@ def radar_horizon_m(antenna_height_m, target_height_m, k_factor=4.0 / 3.0):
     Args: ``antenna_height_m``, ``target_height_m`` (m) in [0, 1e5]; ``k_factor`` (4/3).
     Example: 8 m antenna, 3 m sea-skimmer, k = 4/3 -> 18.79 km.
     Source: Skolnik (2001) §8.2; effective earth radius k a.
+
+    >>> ka = 4 / 3 * 6371e3
+    >>> float(radar_horizon_m(8.0, 3.0)) / 1e3, ((2 * ka * 8 + 8**2) ** 0.5 + (2 * ka * 3 + 3**2) ** 0.5) / 1e3
+    (18.79, 18.79)
     """
     return horizon_distance_m(antenna_height_m, k_factor) + horizon_distance_m(target_height_m, k_factor)
 
@@ -66,6 +79,11 @@ def minimum_visible_target_height_m(range_m, antenna_height_m, k_factor=4.0 / 3.
     own horizon). Written as s^2 / (sqrt((k a)^2 + s^2) + k a) to avoid cancellation.
 
     Args: ``range_m`` R (m) in [0, 1e7]; ``antenna_height_m`` (m); ``k_factor`` (4/3).
+
+    A target exactly at the radar horizon of a 3 m target is visible down to 3 m:
+
+    >>> float(minimum_visible_target_height_m(radar_horizon_m(8.0, 3.0), 8.0))
+    3.0
     """
     check_range("range_m", range_m, 0.0, 1e7, where=_WHERE)
     ae = effective_earth_radius_m(k_factor)

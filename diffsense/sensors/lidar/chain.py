@@ -56,16 +56,18 @@ import jax.numpy as jnp
 
 from diffsense import detection
 from diffsense.errors import DomainError
+from diffsense.numerics.db import DB_PER_NEPER, db10, from_db10
 from diffsense.physics.antennas import circular_aperture_area_m2
 from diffsense.sensors.chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, needs
 from diffsense.sensors.parts import scene_part
-from diffsense.physics.constants import ELEMENTARY_CHARGE_C, PLANCK_J_S, SPEED_OF_LIGHT_M_S
+from diffsense.physics.constants import ELEMENTARY_CHARGE_C
 from diffsense.physics.noise import apd_excess_noise_factor
 from diffsense.physics.propagation import (
     dust_laser_extinction_db_per_km,
     dust_mass_loading_g_m3,
     laser_extinction_db_per_km,
 )
+from diffsense.physics.propagation.free_space import atmospheric_two_way_loss_db
 from diffsense.numerics.rootfind import decreasing_root_log
 from diffsense.physics.waveforms import range_resolution_pulse_m
 
@@ -74,6 +76,7 @@ from diffsense.sensors.lidar.range_equation import (
     beam_footprint_area_m2,
     crossover_range_m,
     intercepted_fraction,
+    photon_energy_j,
     solar_background_power_w,
 )
 from diffsense.sensors.lidar.receiver import (
@@ -81,6 +84,7 @@ from diffsense.sensors.lidar.receiver import (
     heterodyne_noise_psd_a2_hz,
     optimum_apd_gain,
     responsivity_a_w,
+    single_pole_pulse_response,
 )
 from diffsense.sensors.lidar.statistics import threshold_detection_pd, threshold_required_snr_db
 
@@ -94,9 +98,6 @@ __all__ = [
     "BOOK_DUST_MASS_EXTINCTION_M2_G",
 ]
 
-_LN10 = math.log(10.0)
-_DB = 10.0 / _LN10
-_HC = PLANCK_J_S * SPEED_OF_LIGHT_M_S
 _Q = ELEMENTARY_CHARGE_C
 
 #: Search bracket of the detection range (m).
@@ -104,7 +105,7 @@ DETECTION_RANGE_BRACKET_M = (1e-2, 1e7)
 
 #: The book's optimistic dust extinction, 0.1 (dB/km) per (mg/m³) (Brooker §7.2.6.2, §8.16.2),
 #: as a mass extinction coefficient: 0.1 dB/km per mg/m³ = 0.1 dB/m per g/m³ = 0.1·ln(10)/10 m²/g.
-BOOK_DUST_MASS_EXTINCTION_M2_G = 0.1 * _LN10 / 10.0
+BOOK_DUST_MASS_EXTINCTION_M2_G = 0.1 / DB_PER_NEPER
 
 #: SNR range handed to :func:`diffsense.detection.pd` (its documented domain).
 _SQUARE_LAW_SNR_DB = (-50.0, 80.0)
@@ -116,13 +117,13 @@ _SQUARE_LAW_SNR_DB = (-50.0, 80.0)
 @scene_part("haze")
 def haze_two_way_loss_db(range_m, visibility_m, wavelength_m):
     """Two-way haze/fog extinction 2 R α(V, λ) (dB), Kim et al. (2001) q(V)."""
-    return 2.0 * range_m * 1e-3 * laser_extinction_db_per_km(visibility_m, wavelength_m, "kim")
+    return atmospheric_two_way_loss_db(range_m, laser_extinction_db_per_km(visibility_m, wavelength_m, "kim"))
 
 
 @scene_part("haze")
 def haze_two_way_loss_db_kruse(range_m, visibility_m, wavelength_m):
     """Two-way haze extinction 2 R α(V, λ) (dB), Kruse et al. (1962) q(V)."""
-    return 2.0 * range_m * 1e-3 * laser_extinction_db_per_km(visibility_m, wavelength_m, "kruse")
+    return atmospheric_two_way_loss_db(range_m, laser_extinction_db_per_km(visibility_m, wavelength_m, "kruse"))
 
 
 @scene_part("dust")
@@ -133,15 +134,15 @@ def dust_two_way_loss_db(range_m, dust_visibility_m, dust_mass_extinction_m2_g):
     10/ln(10); the book's 0.1–0.43 (dB/km)/(mg/m³) is 0.0230–0.0990 m²/g.
     """
     mass = dust_mass_loading_g_m3(dust_visibility_m)
-    per_km = dust_laser_extinction_db_per_km(mass, dust_mass_extinction_m2_g * _DB)
-    return 2.0 * range_m * 1e-3 * per_km
+    per_km = dust_laser_extinction_db_per_km(mass, dust_mass_extinction_m2_g * DB_PER_NEPER)
+    return atmospheric_two_way_loss_db(range_m, per_km)
 
 
 @scene_part("sun")
 def sun_background_power_w(solar_irradiance_w_m2_nm, filter_bandwidth_m, reflectivity, receiver_fov_rad,
                            receiver_area_m2, optics_efficiency, one_way_loss_db):
     """Solar background power (W) collected from the Lambertian scene filling the field of view."""
-    transmission = jnp.exp(-one_way_loss_db / _DB)
+    transmission = from_db10(-one_way_loss_db)
     return solar_background_power_w(solar_irradiance_w_m2_nm, filter_bandwidth_m, reflectivity, receiver_fov_rad,
                                     receiver_area_m2, optics_efficiency, transmission)
 
@@ -149,8 +150,113 @@ def sun_background_power_w(solar_irradiance_w_m2_nm, filter_bandwidth_m, reflect
 # --- chain -----------------------------------------------------------------------------------
 
 
-def _db(x):
-    return _DB * jnp.log(x)
+def _link_parameters(target):
+    """Laser, optics, target and geometry."""
+    ps = [
+        Param("range_m", "m", "range to the target R", lo=DETECTION_RANGE_BRACKET_M[0],
+              hi=DETECTION_RANGE_BRACKET_M[1]),
+        Param("peak_power_w", "W", "transmitted peak optical power P_t (design default: pulsed laser diode)",
+              default=25.0, lo=1e-6, hi=1e12),
+        Param("pulse_width_s", "s", "rectangular pulse length τ (design default)", default=10e-9,
+              lo=1e-12, hi=1e-3),
+        Param("wavelength_m", "m", "laser wavelength λ (default 905 nm laser diode)", default=905e-9,
+              lo=2e-7, hi=2e-5),
+        Param("receiver_diameter_m", "m", "receiver aperture diameter D_r (design default)", default=0.05,
+              lo=1e-6, hi=10.0),
+        Param("transmit_efficiency", "1", "transmit optics efficiency τ_t (design default)", default=0.9,
+              lo=1e-6, hi=1.0),
+        Param("receive_efficiency", "1", "receive optics and filter transmission τ_r (design default)",
+              default=0.7, lo=1e-6, hi=1.0),
+        Param("reflectivity", "1", "diffuse (Lambertian) reflectance ρ of the target (book 8.16: rock ≈ 0.5)",
+              default=0.5, lo=1e-6, hi=1.0),
+        Param("incidence_rad", "rad", "angle θ between the target normal and the line of sight", default=0.0,
+              lo=0.0, hi=0.5 * math.pi, hi_open=True),
+    ]
+    if target == "point":
+        ps += [
+            Param("target_area_m2", "m**2", "physical area A of the target plate (design default)",
+                  default=1.0, lo=1e-8, hi=1e6),
+            Param("beam_divergence_rad", "rad",
+                  "full transmit beam divergence θ_t (book 13.9: Riegl FG21-P 2.5 mrad)", default=2.5e-3,
+                  lo=1e-7, hi=1.0),
+        ]
+    return ps
+
+
+def _receiver_parameters(detector):
+    """Detector, load, amplifier and filter; APD gain or local oscillator."""
+    ps = [
+        Param("quantum_efficiency", "1", "detector quantum efficiency η (design default)", default=0.8,
+              lo=1e-6, hi=1.0),
+        Param("dark_current_a", "A", "detector (primary) dark current I_d (design default)", default=1e-9,
+              lo=0.0, hi=1e-3),
+        Param("load_resistance_ohm", "ohm", "load / TIA feedback resistance R_L (design default)",
+              default=1e4, lo=1e-3, hi=1e12),
+        Param("amplifier_noise_a_rthz", "A/Hz**0.5",
+              "amplifier input noise current density i_a (design default)", default=2e-12, lo=0.0, hi=1e-6),
+        Param("receiver_temperature_k", "K", "load resistor temperature T (IEEE T0)", default=290.0, lo=1e-3,
+              hi=1e4),
+        Param("bandwidth_hz", "Hz",
+              "receiver noise-equivalent bandwidth B (single-pole filter; IF bandwidth for heterodyne)",
+              default=50e6, lo=1.0, hi=1e12),
+    ]
+    if detector == "apd":
+        ps += [
+            Param("apd_gain", "1", "APD mean gain M (design default)", default=100.0, lo=1.0, hi=1e4),
+            Param("ionization_ratio", "1",
+                  "McIntyre ionization ratio k (design default, low-k silicon-like APD)", default=0.02,
+                  lo=0.0, hi=1.0),
+        ]
+    if detector == "heterodyne":
+        ps += [
+            Param("lo_power_w", "W", "local-oscillator power on the detector P_LO (design default)",
+                  default=1e-3, lo=1e-9, hi=1.0),
+            Param("mixing_efficiency", "1", "heterodyne mixing efficiency η_m (design default)", default=0.5,
+                  lo=1e-6, hi=1.0),
+        ]
+    return ps
+
+
+def _scene_part_parameters(scene, target):
+    """Haze, dust and sun."""
+    ps = []
+    if scene.has("haze"):
+        ps.append(Param("visibility_m", "m", "meteorological visibility V (default 23 km, clear air)",
+                        default=23e3, lo=1.0, hi=1e6, part="haze"))
+    if scene.has("dust"):
+        ps += [
+            Param("dust_visibility_m", "m", "visibility in the dust V (book 8.16.2 ore pass: 20 m)",
+                  default=20.0, lo=1.0, hi=1e5, part="dust"),
+            Param("dust_mass_extinction_m2_g", "m**2/g",
+                  "dust extinction per unit mass loading k (book 0.1-0.43 (dB/km)/(mg/m³) = 0.023-0.099 m²/g; "
+                  "default the optimistic 0.1; at most 10 (dB/km)/(mg/m³))", default=BOOK_DUST_MASS_EXTINCTION_M2_G,
+                  lo=0.0, hi=10.0 / DB_PER_NEPER, part="dust"),
+        ]
+    if scene.has("sun"):
+        ps += [
+            Param("solar_irradiance_w_m2_nm", "W/m**2/nm",
+                  "solar spectral irradiance on the scene at λ (ASTM G173-03 global tilt, 905 nm: 0.817)",
+                  default=ASTM_G173_GLOBAL_TILT_W_M2_NM[905], lo=0.0, hi=3.0, part="sun"),
+            Param("filter_bandwidth_m", "m", "optical filter bandwidth Δλ (design default 10 nm)", default=10e-9,
+                  lo=1e-12, hi=1e-5, part="sun"),
+            Param("receiver_fov_rad", "rad", "full receiver field of view θ_fov (book 13.9: matched to 2.5 mrad)",
+                  default=2.5e-3, lo=1e-7, hi=math.pi, part="sun"),
+        ]
+        if target == "point":
+            ps.append(Param("background_reflectivity", "1",
+                            "reflectance of the sunlit background behind a point target (design default)",
+                            default=0.3, lo=0.0, hi=1.0, part="sun"))
+    return ps
+
+
+def _detection_parameters():
+    """Detection requirement and pulse count."""
+    return [
+        Param("pd", "1", "required probability of detection", default=0.9, lo=0.5, hi=1.0 - 1e-9),
+        Param("pfa", "1", "false-alarm probability per range decision", default=1e-6, lo=1e-15, hi=0.1),
+        Param("n_pulses", "1", "pulses averaged (direct) or integrated noncoherently (heterodyne)",
+              default=1.0, lo=1.0, hi=1e4, integer=True),
+    ]
 
 
 class LidarChain(Chain):
@@ -199,96 +305,8 @@ class LidarChain(Chain):
     # parameters ----------------------------------------------------------------------------
     def parameters(self, scene):
         detector, target, _, _ = self.resolved(scene)
-        ps = [
-            Param("range_m", "m", "range to the target R", lo=DETECTION_RANGE_BRACKET_M[0],
-                  hi=DETECTION_RANGE_BRACKET_M[1]),
-            Param("peak_power_w", "W", "transmitted peak optical power P_t (design default: pulsed laser diode)",
-                  default=25.0, lo=1e-6, hi=1e12),
-            Param("pulse_width_s", "s", "rectangular pulse length τ (design default)", default=10e-9,
-                  lo=1e-12, hi=1e-3),
-            Param("wavelength_m", "m", "laser wavelength λ (default 905 nm laser diode)", default=905e-9,
-                  lo=2e-7, hi=2e-5),
-            Param("receiver_diameter_m", "m", "receiver aperture diameter D_r (design default)", default=0.05,
-                  lo=1e-6, hi=10.0),
-            Param("transmit_efficiency", "1", "transmit optics efficiency τ_t (design default)", default=0.9,
-                  lo=1e-6, hi=1.0),
-            Param("receive_efficiency", "1", "receive optics and filter transmission τ_r (design default)",
-                  default=0.7, lo=1e-6, hi=1.0),
-            Param("reflectivity", "1", "diffuse (Lambertian) reflectance ρ of the target (book 8.16: rock ≈ 0.5)",
-                  default=0.5, lo=1e-6, hi=1.0),
-            Param("incidence_rad", "rad", "angle θ between the target normal and the line of sight", default=0.0,
-                  lo=0.0, hi=0.5 * math.pi, hi_open=True),
-        ]
-        if target == "point":
-            ps += [
-                Param("target_area_m2", "m**2", "physical area A of the target plate (design default)",
-                      default=1.0, lo=1e-8, hi=1e6),
-                Param("beam_divergence_rad", "rad",
-                      "full transmit beam divergence θ_t (book 13.9: Riegl FG21-P 2.5 mrad)", default=2.5e-3,
-                      lo=1e-7, hi=1.0),
-            ]
-        ps += [
-            Param("quantum_efficiency", "1", "detector quantum efficiency η (design default)", default=0.8,
-                  lo=1e-6, hi=1.0),
-            Param("dark_current_a", "A", "detector (primary) dark current I_d (design default)", default=1e-9,
-                  lo=0.0, hi=1e-3),
-            Param("load_resistance_ohm", "ohm", "load / TIA feedback resistance R_L (design default)",
-                  default=1e4, lo=1e-3, hi=1e12),
-            Param("amplifier_noise_a_rthz", "A/Hz**0.5",
-                  "amplifier input noise current density i_a (design default)", default=2e-12, lo=0.0, hi=1e-6),
-            Param("receiver_temperature_k", "K", "load resistor temperature T (IEEE T0)", default=290.0, lo=1e-3,
-                  hi=1e4),
-            Param("bandwidth_hz", "Hz",
-                  "receiver noise-equivalent bandwidth B (single-pole filter; IF bandwidth for heterodyne)",
-                  default=50e6, lo=1.0, hi=1e12),
-        ]
-        if detector == "apd":
-            ps += [
-                Param("apd_gain", "1", "APD mean gain M (design default)", default=100.0, lo=1.0, hi=1e4),
-                Param("ionization_ratio", "1",
-                      "McIntyre ionization ratio k (design default, low-k silicon-like APD)", default=0.02,
-                      lo=0.0, hi=1.0),
-            ]
-        if detector == "heterodyne":
-            ps += [
-                Param("lo_power_w", "W", "local-oscillator power on the detector P_LO (design default)",
-                      default=1e-3, lo=1e-9, hi=1.0),
-                Param("mixing_efficiency", "1", "heterodyne mixing efficiency η_m (design default)", default=0.5,
-                      lo=1e-6, hi=1.0),
-            ]
-        ps += [
-            Param("pd", "1", "required probability of detection", default=0.9, lo=0.5, hi=1.0 - 1e-9),
-            Param("pfa", "1", "false-alarm probability per range decision", default=1e-6, lo=1e-15, hi=0.1),
-            Param("n_pulses", "1", "pulses averaged (direct) or integrated noncoherently (heterodyne)",
-                  default=1.0, lo=1.0, hi=1e4, integer=True),
-        ]
-        if scene.has("haze"):
-            ps.append(Param("visibility_m", "m", "meteorological visibility V (default 23 km, clear air)",
-                            default=23e3, lo=1.0, hi=1e6, part="haze"))
-        if scene.has("dust"):
-            ps += [
-                Param("dust_visibility_m", "m", "visibility in the dust V (book 8.16.2 ore pass: 20 m)",
-                      default=20.0, lo=1.0, hi=1e5, part="dust"),
-                Param("dust_mass_extinction_m2_g", "m**2/g",
-                      "dust extinction per unit mass loading k (book 0.1-0.43 (dB/km)/(mg/m³) = 0.023-0.099 m²/g; "
-                      "default the optimistic 0.1; at most 10 (dB/km)/(mg/m³))", default=BOOK_DUST_MASS_EXTINCTION_M2_G,
-                      lo=0.0, hi=_LN10, part="dust"),
-            ]
-        if scene.has("sun"):
-            ps += [
-                Param("solar_irradiance_w_m2_nm", "W/m**2/nm",
-                      "solar spectral irradiance on the scene at λ (ASTM G173-03 global tilt, 905 nm: 0.817)",
-                      default=ASTM_G173_GLOBAL_TILT_W_M2_NM[905], lo=0.0, hi=3.0, part="sun"),
-                Param("filter_bandwidth_m", "m", "optical filter bandwidth Δλ (design default 10 nm)", default=10e-9,
-                      lo=1e-12, hi=1e-5, part="sun"),
-                Param("receiver_fov_rad", "rad", "full receiver field of view θ_fov (book 13.9: matched to 2.5 mrad)",
-                      default=2.5e-3, lo=1e-7, hi=math.pi, part="sun"),
-            ]
-            if target == "point":
-                ps.append(Param("background_reflectivity", "1",
-                                "reflectance of the sunlit background behind a point target (design default)",
-                                default=0.3, lo=0.0, hi=1.0, part="sun"))
-        return collect(ps)
+        return collect(_link_parameters(target) + _receiver_parameters(detector) + _detection_parameters()
+                       + _scene_part_parameters(scene, target))
 
     # outputs --------------------------------------------------------------------------------
     def outputs(self, scene):
@@ -328,11 +346,11 @@ class LidarChain(Chain):
         detector, target, _, _ = self.resolved(scene)
         st = {"area_r": circular_aperture_area_m2(p["receiver_diameter_m"]), "cos_i": jnp.cos(p["incidence_rad"])}
         st["fixed"] = [
-            ("peak power", _db(p["peak_power_w"])),
-            ("transmit optics", _db(p["transmit_efficiency"])),
-            ("target reflectance rho cos(theta)/pi", _db(p["reflectivity"] * st["cos_i"] / jnp.pi)),
+            ("peak power", db10(p["peak_power_w"])),
+            ("transmit optics", db10(p["transmit_efficiency"])),
+            ("target reflectance rho cos(theta)/pi", db10(p["reflectivity"] * st["cos_i"] / jnp.pi)),
         ]
-        st["rx"] = [("receiver aperture area", _db(st["area_r"])), ("receive optics", _db(p["receive_efficiency"]))]
+        st["rx"] = [("receiver aperture area", db10(st["area_r"])), ("receive optics", db10(p["receive_efficiency"]))]
         st["path_per_m"] = []
         one_m = jnp.ones_like(p["range_m"])
         if scene.has("haze"):
@@ -358,8 +376,8 @@ class LidarChain(Chain):
         if target == "point":
             footprint = beam_footprint_area_m2(r, p["beam_divergence_rad"])
             projected = p["target_area_m2"] * st["cos_i"]
-            optical.append(("beam fill (intercepted fraction)", _db(intercepted_fraction(projected, footprint))))
-        optical.append(("range spreading 1/R^2", -2.0 * _db(r)))
+            optical.append(("beam fill (intercepted fraction)", db10(intercepted_fraction(projected, footprint))))
+        optical.append(("range spreading 1/R^2", -2.0 * db10(r)))
         optical += st["rx"]
         path_db = jnp.zeros_like(r)
         for name, per_m in st["path_per_m"]:
@@ -367,8 +385,8 @@ class LidarChain(Chain):
             optical.append((name, -loss))
             path_db = path_db + loss
         pr_dbw = sum(v for _, v in optical)
-        pr_w = jnp.exp(pr_dbw / _DB)
-        pb_w = st["pb0_w"] * jnp.exp(-0.5 * path_db / _DB) if scene.has("sun") else jnp.zeros_like(pr_w)
+        pr_w = from_db10(pr_dbw)
+        pb_w = st["pb0_w"] * from_db10(-0.5 * path_db) if scene.has("sun") else jnp.zeros_like(pr_w)
 
         resp = st["resp"]
         bw = p["bandwidth_hz"]
@@ -376,18 +394,17 @@ class LidarChain(Chain):
         terms = list(optical)
         out = {"pr_dbw": pr_dbw, "pr_w": pr_w, "pb_w": pb_w, "path_db": path_db}
         if detector == "heterodyne":
-            hnu_b = _HC / p["wavelength_m"] * bw
+            hnu_b = photon_energy_j(p["wavelength_m"]) * bw
             psd = heterodyne_noise_psd_a2_hz(pr_w, p["lo_power_w"], pb_w, resp, p["dark_current_a"],
                                              p["receiver_temperature_k"], p["load_resistance_ohm"],
                                              p["amplifier_noise_a_rthz"])
             lo_fraction = 2.0 * _Q * resp * p["lo_power_w"] / psd
-            response = -jnp.expm1(-2.0 * bw * tau)
             terms += [
-                ("quantum efficiency", _db(p["quantum_efficiency"])),
-                ("mixing efficiency", _db(p["mixing_efficiency"])),
-                ("photon energy x bandwidth 1/(h nu B)", -_db(hnu_b)),
-                ("LO shot-noise fraction", _db(lo_fraction)),
-                ("pulse response (IF filter)", 2.0 * _db(response)),
+                ("quantum efficiency", db10(p["quantum_efficiency"])),
+                ("mixing efficiency", db10(p["mixing_efficiency"])),
+                ("photon energy x bandwidth 1/(h nu B)", -db10(hnu_b)),
+                ("LO shot-noise fraction", db10(lo_fraction)),
+                ("pulse response (IF filter)", db10(single_pole_pulse_response(bw, tau, "if"))),
             ]
             out["nep_w"] = hnu_b / (p["quantum_efficiency"] * p["mixing_efficiency"] * lo_fraction)
             out["noise_ratio"] = jnp.ones_like(pr_w)
@@ -399,12 +416,11 @@ class LidarChain(Chain):
             i_n1 = direct_detection_noise_current_a(pr_w, pb_w, *common)
             i_n0 = direct_detection_noise_current_a(jnp.zeros_like(pr_w), pb_w, *common)
             nep = i_n1 / (resp * gain)
-            response = -jnp.expm1(-4.0 * bw * tau)
-            nep_dbw = _db(nep)
+            nep_dbw = db10(nep)
             terms += [
                 ("noise-equivalent power", -nep_dbw),
                 ("square-law detection (SNR ~ P_r^2)", pr_dbw - nep_dbw),
-                ("pulse response (receiver filter)", 2.0 * _db(response)),
+                ("pulse response (receiver filter)", db10(single_pole_pulse_response(bw, tau, "baseband"))),
             ]
             out["nep_w"] = nep
             out["noise_ratio"] = i_n0 / i_n1
@@ -441,7 +457,7 @@ class LidarChain(Chain):
             "received_power_w": link["pr_w"],
             "received_power_dbm": link["pr_dbw"] + 30.0,
             "signal_photoelectrons": (p["quantum_efficiency"] * link["pr_w"] * p["pulse_width_s"]
-                                      * p["wavelength_m"] / _HC),
+                                      / photon_energy_j(p["wavelength_m"])),
             "nep_w": link["nep_w"],
             "snr_db": snr_db,
         }

@@ -95,7 +95,11 @@ def photon_energy_j(wavelength_m):
     Args:
         wavelength_m: wavelength λ (m), in [1e-9, 1e-2].
 
-    Exact (SI defining constants h and c). Example: 1.064 µm -> 1.8670e-19 J.
+    Exact (SI defining constants h and c). Example: 1.064 µm -> 1.8670e-19 J, with the defining
+    values h = 6.62607015e-34 J s and c = 299792458 m/s:
+
+    >>> float(photon_energy_j(1.064e-6)), 6.62607015e-34 * 299792458 / 1.064e-6
+    (1.86696e-19, 1.86696e-19)
     """
     check_range("wavelength_m", wavelength_m, 1e-9, 1e-2, where="photon_energy_j")
     return PLANCK_J_S * SPEED_OF_LIGHT_M_S / _f(wavelength_m)
@@ -108,6 +112,12 @@ def cone_solid_angle_sr(full_angle_rad):
 
     Args:
         full_angle_rad: full cone angle θ (rad), in (0, 2π].
+
+    A cone of full angle π is a hemisphere (2π sr), one of 2π the whole sphere (4π sr):
+
+    >>> import math
+    >>> float(cone_solid_angle_sr(math.pi)) / math.pi, float(cone_solid_angle_sr(2 * math.pi)) / math.pi
+    (2.0, 4.0)
     """
     _pos("full_angle_rad", full_angle_rad, "cone_solid_angle_sr", hi=2.0 * math.pi)
     s = jnp.sin(0.25 * _f(full_angle_rad))
@@ -145,6 +155,11 @@ def lambertian_cross_section_m2(reflectivity, area_m2, incidence_rad=0.0):
 
     Exact for an ideal Lambertian plate smaller than the beam. Brooker eq. (8.20) prints
     4πρA cos θ; see the module docstring for why 4 ρ A cos θ (projected A) is used here.
+    A 1 m² plate of ρ = 0.5 seen 60° off its normal (cos² 60° = 1/4): 4 × 0.5 × 1 × 0.25:
+
+    >>> import math
+    >>> float(lambertian_cross_section_m2(0.5, 1.0, math.radians(60.0)))
+    0.5
     """
     w = "lambertian_cross_section_m2"
     check_range("reflectivity", reflectivity, 0.0, 1.0, where=w)
@@ -165,6 +180,16 @@ def crossover_range_m(projected_area_m2, beam_divergence_rad):
     Args:
         projected_area_m2: target area projected normal to the line of sight A_p (m²), (0, ∞).
         beam_divergence_rad: full divergence θ_t (rad), in (0, π).
+
+    At R_c a 2.5 mrad beam covers exactly the 1 m² target, and the point-target received power
+    (σ = 4 ρ A) equals the extended-target one:
+
+    >>> r_c = crossover_range_m(1.0, 2.5e-3)
+    >>> float(beam_footprint_area_m2(r_c, 2.5e-3))
+    1.0
+    >>> point = received_power_point_w(1.0, lambertian_cross_section_m2(0.5, 1.0), 1e-3, r_c, 2.5e-3)
+    >>> float(point / received_power_extended_w(1.0, 0.5, 1e-3, r_c))
+    1.0
     """
     w = "crossover_range_m"
     _pos("projected_area_m2", projected_area_m2, w)
@@ -184,6 +209,11 @@ def intercepted_fraction(projected_area_m2, footprint_area_m2, sharpness=16.0):
         projected_area_m2: target projected area A_p (m²), in (0, ∞).
         footprint_area_m2: beam footprint A_f (m²), in (0, ∞).
         sharpness: p (static float ≥ 1) or None.
+
+    >>> float(intercepted_fraction(1.0, 1.0)), 2 ** (-1 / 16)
+    (0.957603, 0.957603)
+    >>> float(intercepted_fraction(1.0, 1e3))
+    0.001
     """
     w = "intercepted_fraction"
     _pos("projected_area_m2", projected_area_m2, w)

@@ -70,7 +70,10 @@ def responsivity_a_w(quantum_efficiency, wavelength_m):
         quantum_efficiency: quantum efficiency η, in (0, 1].
         wavelength_m: wavelength λ (m), in [1e-9, 1e-2].
 
-    Exact. Example: η = 1 at 1.55 µm -> 1.2501 A/W.
+    Exact. Example: η = 1 at 1.55 µm -> 1.2501 A/W, i.e. q λ/(h c) with the SI defining values:
+
+    >>> float(responsivity_a_w(1.0, 1.55e-6)), 1.602176634e-19 * 1.55e-6 / (6.62607015e-34 * 299792458)
+    (1.25016, 1.25016)
     """
     w = "responsivity_a_w"
     check_range("quantum_efficiency", quantum_efficiency, 0.0, 1.0, lo_open=True, where=w)
@@ -232,7 +235,12 @@ def quantum_limited_heterodyne_snr(signal_power_w, quantum_efficiency, wavelengt
         mixing_efficiency: η_m, in (0, 1].
 
     Source: Kingston (1978) ch. 3 (the heterodyne receiver reaches one photoelectron per
-    1/B seconds at SNR = 1); Jelalian (1992) ch. 2.
+    1/B seconds at SNR = 1); Jelalian (1992) ch. 2. One photon per 1/B seconds (P_s = h ν B)
+    detected with η = 1 gives SNR 1:
+
+    >>> h_nu = 6.62607015e-34 * 299792458 / 1.55e-6
+    >>> float(quantum_limited_heterodyne_snr(h_nu * 1e6, 1.0, 1.55e-6, 1e6))
+    1.0
     """
     w = "quantum_limited_heterodyne_snr"
     check_range("signal_power_w", signal_power_w, 0.0, None, where=w)
@@ -265,6 +273,12 @@ def single_pole_pulse_response(bandwidth_hz, pulse_width_s, receiver="baseband")
         bandwidth_hz: noise-equivalent bandwidth B (Hz), in (0, ∞).
         pulse_width_s: rectangular pulse length τ (s), in (0, ∞).
         receiver: ``"baseband"`` or ``"if"`` (static).
+
+    With 4 B τ = 1 (25 MHz, 10 ns) the baseband pulse peaks at 1 − 1/e of its amplitude:
+
+    >>> import math
+    >>> float(single_pole_pulse_response(25e6, 10e-9)), (1 - math.exp(-1)) ** 2
+    (0.399576, 0.399576)
     """
     w = "single_pole_pulse_response"
     check_choice("receiver", receiver, ("baseband", "if"), where=w)

@@ -14,10 +14,13 @@ dust (:mod:`diffsense.physics.propagation.dust`), sea multipath
 
 Sources (book = Brooker, *Introduction to Sensors for Ranging and Imaging*, 2009): radar
 equation and link budget §9.9.1 (Pr = Pt G² λ² σ / ((4π)³ R⁴ L), N = k T0 β F, Table-style
-budget); volume clutter §9.9.3; ore-pass radar §8.16 (wall clutter §8.16.6, IF gain §8.16.12,
-PRF §8.16.14); noise jamming §9.10 eq (9.31); hits per scan eq (9.26). The energy form and the
-search-radar (power-aperture) form are in M. I. Skolnik, *Introduction to Radar Systems*, 3rd ed.
-(McGraw-Hill, 2001), §2.2 and §2.12.
+budget); volume clutter §9.9.3; ore-pass radar §8.16 (wall clutter §8.16.6, IF gain §8.16.12);
+noise jamming §9.10 eq (9.31). The energy form and the search-radar (power-aperture) form are in
+M. I. Skolnik, *Introduction to Radar Systems*, 3rd ed. (McGraw-Hill, 2001), §2.2 and §2.12.
+
+The waveform relations a radar design also needs (range resolution c τ/2, unambiguous range,
+maximum PRF, update rate, hits per scan, pulse-compression gain) live in
+:mod:`diffsense.physics.waveforms`.
 """
 
 from __future__ import annotations
@@ -32,7 +35,8 @@ from diffsense.physics import clutter as _clutter
 from diffsense.physics import noise as _noise
 from diffsense.errors import DomainError
 from diffsense.numerics.checks import check_range, is_concrete
-from diffsense.physics.constants import BOLTZMANN_J_K, REFERENCE_TEMPERATURE_K, SPEED_OF_LIGHT_M_S
+from diffsense.numerics.db import DB_PER_NEPER, db10, from_db10
+from diffsense.physics.constants import BOLTZMANN_J_K, REFERENCE_TEMPERATURE_K
 from diffsense.physics.propagation.dust import ROCK_DUST_K_SQUARED
 from diffsense.physics.propagation.free_space import atmospheric_two_way_loss_db
 from diffsense.physics.propagation.multipath import SEA_STATE_SIGNIFICANT_WAVE_HEIGHT_M, propagation_factor_db
@@ -45,7 +49,6 @@ __all__ = [
     "received_power_dbm",
     "received_power_w",
     "snr_peak_power_db",
-    "pulse_compression_gain_db",
     "search_radar_snr_db",
     "volume_clutter_scr_db",
     "rain_clutter_scr_db",
@@ -65,16 +68,9 @@ __all__ = [
     "detection_range_m",
     "DetectionRange",
     "if_gain_required_db",
-    "range_resolution_m",
-    "unambiguous_range_m",
-    "max_prf_hz",
-    "update_rate_hz",
-    "hits_per_scan",
     "RANGE_SEARCH_M",
 ]
 
-_LOG10 = math.log(10.0)
-_DB = 10.0 / _LOG10
 #: 10 log10((4π)³), dB.
 FOUR_PI_CUBED_DB = 30.0 * math.log10(4.0 * math.pi)
 #: Default bracket of the detection-range search (m).
@@ -85,11 +81,6 @@ _LOSS_DB_RANGE = (-50.0, 300.0)
 
 def _f(x):
     return jnp.asarray(x, dtype=jnp.result_type(float, x))
-
-
-def _db10(x):
-    """10 log10 x via the natural log (finite gradient for x > 0)."""
-    return _DB * jnp.log(_f(x))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -116,6 +107,14 @@ def snr_db(range_m, peak_power_w, pulse_width_s, wavelength_m, gain_db, rcs_m2=1
     Exact (k = 1.380649e-23 J/K exact SI). Broadcasts over all arguments.
     Source: Skolnik, *Introduction to Radar Systems*, 3rd ed., §2.2 (energy form of the radar
     equation, E/N0 = Pt τ G Ae σ / ((4π)² k Ts R⁴ L) with Ae = G λ²/(4π)); Brooker §9.9.1.
+
+    1 MW for 1 µs, G = 40 dB, λ = 3 cm, σ = 1 m², 290 K, at 10 km, against the formula:
+
+    >>> import math
+    >>> float(snr_db(1e4, 1e6, 1e-6, 0.03, 40.0, 1.0, 290.0))
+    60.5413
+    >>> 10 * math.log10(1e6 * 1e-6 * 1e4**2 * 0.03**2 / ((4 * math.pi)**3 * 1.380649e-23 * 290.0 * 1e4**4))
+    60.5413
     """
     w = "radar.snr_db"
     check_range("range_m", range_m, 0.0, None, lo_open=True, where=w)
@@ -127,15 +126,15 @@ def snr_db(range_m, peak_power_w, pulse_width_s, wavelength_m, gain_db, rcs_m2=1
     check_range("system_temp_k", system_temp_k, 0.0, None, lo_open=True, where=w)
     check_range("loss_db", loss_db, *_LOSS_DB_RANGE, where=w)
     return (
-        _db10(peak_power_w)
-        + _db10(pulse_width_s)
+        db10(peak_power_w)
+        + db10(pulse_width_s)
         + 2.0 * _f(gain_db)
-        + 2.0 * _db10(wavelength_m)
-        + _db10(rcs_m2)
+        + 2.0 * db10(wavelength_m)
+        + db10(rcs_m2)
         - FOUR_PI_CUBED_DB
-        - _DB * math.log(BOLTZMANN_J_K)
-        - _db10(system_temp_k)
-        - 4.0 * _db10(range_m)
+        - DB_PER_NEPER * math.log(BOLTZMANN_J_K)
+        - db10(system_temp_k)
+        - 4.0 * db10(range_m)
         - _f(loss_db)
     )
 
@@ -159,7 +158,11 @@ def received_power_dbw(range_m, peak_power_w, gain_db, wavelength_m, rcs_m2=1.0,
         wavelength_m: λ (m), (0, ∞). rcs_m2: σ (m²), (0, ∞). loss_db: L (dB), [-50, 300].
 
     Book §9.9.1.2: Pr = 65 + 2×36 − 45.7 + 0 − 4.16 − 40 log10 R = 87.14 − 40 log10 R dBW.
-    Exact.
+    Exact. The book's radar (5 MW, 2 dB transmit line, 4.16 dB of losses, λ = 0.23 m) at 1 m;
+    the book adds terms rounded to 0.1 dB:
+
+    >>> float(received_power_dbw(1.0, 5e6, 36.0, 0.23, 1.0, 2.0 + 4.16))
+    87.1
     """
     w = "radar.received_power_dbw"
     check_range("range_m", range_m, 0.0, None, lo_open=True, where=w)
@@ -169,12 +172,12 @@ def received_power_dbw(range_m, peak_power_w, gain_db, wavelength_m, rcs_m2=1.0,
     check_range("rcs_m2", rcs_m2, 0.0, None, lo_open=True, where=w)
     check_range("loss_db", loss_db, *_LOSS_DB_RANGE, where=w)
     return (
-        _db10(peak_power_w)
+        db10(peak_power_w)
         + 2.0 * _f(gain_db)
-        + 2.0 * _db10(wavelength_m)
+        + 2.0 * db10(wavelength_m)
         - FOUR_PI_CUBED_DB
-        + _db10(rcs_m2)
-        - 4.0 * _db10(range_m)
+        + db10(rcs_m2)
+        - 4.0 * db10(range_m)
         - _f(loss_db)
     )
 
@@ -186,7 +189,7 @@ def received_power_dbm(range_m, peak_power_w, gain_db, wavelength_m, rcs_m2=1.0,
 
 def received_power_w(range_m, peak_power_w, gain_db, wavelength_m, rcs_m2=1.0, loss_db=0.0):
     """:func:`received_power_dbw` in watts."""
-    return 10.0 ** (received_power_dbw(range_m, peak_power_w, gain_db, wavelength_m, rcs_m2, loss_db) / 10.0)
+    return from_db10(received_power_dbw(range_m, peak_power_w, gain_db, wavelength_m, rcs_m2, loss_db))
 
 
 def snr_peak_power_db(
@@ -222,20 +225,6 @@ def snr_peak_power_db(
     return pr - n
 
 
-def pulse_compression_gain_db(bandwidth_hz, pulse_width_s):
-    """Pulse-compression gain ``10 log10(B τ)`` (dB): SNR gain of a matched filter for a coded or
-    chirped pulse of length τ and bandwidth B over an uncoded pulse of length 1/B (equal peak
-    power); also the ratio of the uncompressed to the compressed range resolution.
-
-    Args: bandwidth_hz B (Hz), (0, ∞); pulse_width_s τ (s), (0, ∞). Exact; B τ < 1 gives a
-    negative value (no compression). Source: Skolnik, 3rd ed., §6.5 (pulse compression ratio).
-    """
-    w = "radar.pulse_compression_gain_db"
-    check_range("bandwidth_hz", bandwidth_hz, 0.0, None, lo_open=True, where=w)
-    check_range("pulse_width_s", pulse_width_s, 0.0, None, lo_open=True, where=w)
-    return _db10(bandwidth_hz) + _db10(pulse_width_s)
-
-
 def search_radar_snr_db(
     range_m, average_power_w, effective_aperture_m2, solid_angle_sr, scan_time_s, rcs_m2=1.0, system_temp_k=290.0, loss_db=0.0
 ):
@@ -264,15 +253,15 @@ def search_radar_snr_db(
     check_range("system_temp_k", system_temp_k, 0.0, None, lo_open=True, where=w)
     check_range("loss_db", loss_db, *_LOSS_DB_RANGE, where=w)
     return (
-        _db10(average_power_w)
-        + _db10(effective_aperture_m2)
-        + _db10(rcs_m2)
-        + _db10(scan_time_s)
-        - _DB * math.log(4.0 * math.pi * BOLTZMANN_J_K)
-        - _db10(solid_angle_sr)
-        - _db10(system_temp_k)
+        db10(average_power_w)
+        + db10(effective_aperture_m2)
+        + db10(rcs_m2)
+        + db10(scan_time_s)
+        - DB_PER_NEPER * math.log(4.0 * math.pi * BOLTZMANN_J_K)
+        - db10(solid_angle_sr)
+        - db10(system_temp_k)
         - _f(loss_db)
-        - 4.0 * _db10(range_m)
+        - 4.0 * db10(range_m)
     )
 
 
@@ -292,14 +281,17 @@ def volume_clutter_scr_db(rcs_m2, eta_m2_m3, range_m, az_beamwidth_rad, el_beamw
         range_m: R (m), (0, ∞). az_beamwidth_rad, el_beamwidth_rad: 3 dB beamwidths (rad),
         (0, π). pulse_width_s: τ (s), (0, ∞). beam_shape_factor: α, [1, 2] (book 1.33).
 
-    Book §9.9.3: η = 1e-7, 0.02 × 0.07 rad, 2 µs: σ_clut = 1.86e-8 R²; SCR = 15.2 dB at 1274 m.
+    Book §9.9.3: η = 1e-7, 0.02 × 0.07 rad, 2 µs: σ_clut = 1.86e-8 R²; SCR = 15.2 dB at 1274 m:
+
+    >>> float(volume_clutter_scr_db(1.0, 1e-7, 1274.0, 0.02, 0.07, 2e-6))
+    15.2
     """
     check_range("rcs_m2", rcs_m2, 0.0, None, lo_open=True, where="radar.volume_clutter_scr_db")
     check_range("eta_m2_m3", eta_m2_m3, 0.0, None, lo_open=True, where="radar.volume_clutter_scr_db")
     sigma_c = _clutter.volume_clutter_rcs_m2(
         eta_m2_m3, range_m, az_beamwidth_rad, el_beamwidth_rad, pulse_width_s, beam_shape_factor=beam_shape_factor
     )
-    return _db10(rcs_m2) - _db10(sigma_c)
+    return db10(rcs_m2) - db10(sigma_c)
 
 
 def rain_clutter_scr_db(rcs_m2, rain_rate_mm_h, wavelength_m, range_m, az_beamwidth_rad, el_beamwidth_rad, pulse_width_s, beam_shape_factor=1.33):
@@ -360,7 +352,7 @@ def sea_clutter_rcs_m2(range_m, antenna_height_m, az_beamwidth_rad, el_beamwidth
     """
     psi = sea_grazing_angle_rad(range_m, antenna_height_m)
     gamma_db = _clutter.sea_clutter_gamma_db(_clutter.beaufort_from_sea_state(sea_state), wavelength_m)
-    sigma0 = 10.0 ** (gamma_db / 10.0) * jnp.sin(psi)
+    sigma0 = from_db10(gamma_db) * jnp.sin(psi)
     area = _clutter.surface_clutter_area_m2(range_m, az_beamwidth_rad, el_beamwidth_rad, pulse_width_s, psi)
     return sigma0 * area
 
@@ -372,7 +364,7 @@ def sea_clutter_scr_db(rcs_m2, range_m, antenna_height_m, az_beamwidth_rad, el_b
     """
     check_range("rcs_m2", rcs_m2, 0.0, None, lo_open=True, where="radar.sea_clutter_scr_db")
     sc = sea_clutter_rcs_m2(range_m, antenna_height_m, az_beamwidth_rad, el_beamwidth_rad, pulse_width_s, wavelength_m, sea_state)
-    return _db10(rcs_m2) - _db10(sc)
+    return db10(rcs_m2) - db10(sc)
 
 
 def wall_illumination_factor(range_m, pass_diameter_m, beamwidth_rad):
@@ -403,21 +395,29 @@ def wall_clutter_rcs_m2(pass_diameter_m, range_gate_m, wall_reflectivity_db, ill
 
     Args: pass_diameter_m d (m), (0, ∞); range_gate_m ΔR (m), (0, ∞); wall_reflectivity_db σ°_w
     (dB), [-60, 20]; illumination w, (0, 1].
-    Book §8.16.6: d = 6 m, ΔR = 2 m, σ° = −10 dB → 15.8 − 10 = 5.8 dBm².
+    Book §8.16.6: d = 6 m, ΔR = 2 m, σ° = −10 dB → 15.8 − 10 = 5.8 dBm²:
+
+    >>> from diffsense.numerics.db import db10
+    >>> float(db10(wall_clutter_rcs_m2(6.0, 2.0, -10.0)))
+    5.8
     """
     check_range("wall_reflectivity_db", wall_reflectivity_db, -60.0, 20.0, where="radar.wall_clutter_rcs_m2")
     check_range("illumination", illumination, 0.0, 1.0, lo_open=True, where="radar.wall_clutter_rcs_m2")
     area = _clutter.cylinder_wall_area_m2(pass_diameter_m, range_gate_m)
-    return area * 10.0 ** (_f(wall_reflectivity_db) / 10.0) * _f(illumination)
+    return area * from_db10(wall_reflectivity_db) * _f(illumination)
 
 
 def wall_clutter_scr_db(rcs_m2, pass_diameter_m, range_gate_m, wall_reflectivity_db, illumination=1.0):
     """Target-to-wall-clutter ratio ``10 log10(σ / σ_c)`` (dB) with σ_c from :func:`wall_clutter_rcs_m2`.
 
-    Book §8.16.6: 11.5 − 5.8 = 5.7 dB when the beam fills the pass (< 13 dB needed).
+    Book §8.16.6: 11.5 − 5.8 = 5.7 dB when the beam fills the pass (< 13 dB needed):
+
+    >>> from diffsense.numerics.db import from_db10
+    >>> float(wall_clutter_scr_db(from_db10(11.5), 6.0, 2.0, -10.0))
+    5.7
     """
     check_range("rcs_m2", rcs_m2, 0.0, None, lo_open=True, where="radar.wall_clutter_scr_db")
-    return _db10(rcs_m2) - _db10(wall_clutter_rcs_m2(pass_diameter_m, range_gate_m, wall_reflectivity_db, illumination))
+    return db10(rcs_m2) - db10(wall_clutter_rcs_m2(pass_diameter_m, range_gate_m, wall_reflectivity_db, illumination))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -454,7 +454,7 @@ def signal_to_jamming_db(range_m, peak_power_w, gain_db, wavelength_m, rcs_m2, l
     gr = gain_db if radar_gain_toward_jammer_db is None else radar_gain_toward_jammer_db
     s = received_power_dbw(range_m, peak_power_w, gain_db, wavelength_m, rcs_m2, loss_db)
     j = jamming_power_w(jammer_power_w, jammer_gain_db, gr, wavelength_m, jr, jammer_bandwidth_hz, receiver_bandwidth_hz)
-    return s - _db10(j)
+    return s - db10(j)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -516,8 +516,11 @@ def free_space_detection_range_m(snr_at_1m_db, required_snr_db):
 
     SNR(R) = SNR(1 m) − 40 log10 R. Book §9.9.1.4: 10^((230.1 − 8.2)/40) = 352,776.8 m. Exact.
     Args: dB values, any real.
+
+    >>> float(free_space_detection_range_m(230.1, 8.2))
+    352776.8
     """
-    return 10.0 ** ((_f(snr_at_1m_db) - _f(required_snr_db)) / 40.0)
+    return from_db10((_f(snr_at_1m_db) - _f(required_snr_db)) / 4.0)
 
 
 def detection_range_m(snr_at_1m_db, required_snr_db, one_way_attenuation_db_per_km=0.0, *, lo_m=RANGE_SEARCH_M[0], hi_m=RANGE_SEARCH_M[1]):
@@ -529,6 +532,16 @@ def detection_range_m(snr_at_1m_db, required_snr_db, one_way_attenuation_db_per_
 
     Args: snr_at_1m_db, required_snr_db (dB); one_way_attenuation_db_per_km α ≥ 0;
     lo_m, hi_m: search bracket (m), 0 < lo_m < hi_m.
+
+    The book's case (0.003 dB/km): the root satisfies the equation, and it is the 320 km the
+    book reads off its graph to two figures:
+
+    >>> import math
+    >>> r = float(detection_range_m(230.1, 8.2, 0.003).range_m)
+    >>> round(230.1 - 40 * math.log10(r) - 2 * 0.003 * r / 1e3, 9)
+    8.2
+    >>> round(r, -4)
+    320000.0
     """
     check_range("one_way_attenuation_db_per_km", one_way_attenuation_db_per_km, 0.0, None, where="radar.detection_range_m")
     s0 = _f(snr_at_1m_db)
@@ -536,14 +549,14 @@ def detection_range_m(snr_at_1m_db, required_snr_db, one_way_attenuation_db_per_
     alpha = _f(one_way_attenuation_db_per_km)
 
     def residual(r):
-        return s0 - 4.0 * _DB * jnp.log(r) - 2.0 * alpha * r / 1e3 - req
+        return s0 - 4.0 * db10(r) - 2.0 * alpha * r / 1e3 - req
 
     res = decreasing_root_log(residual, lo_m, hi_m)
     return DetectionRange(res.root, res.bracketed)
 
 
 # ---------------------------------------------------------------------------------------------
-# Receiver and timing relations
+# Receiver gain
 # ---------------------------------------------------------------------------------------------
 
 
@@ -557,47 +570,9 @@ def if_gain_required_db(received_power_dbm, receive_loss_db, mixer_loss_db, rcs_
     Args (all dB / dBm, any real): received_power_dbm Pr; receive_loss_db; mixer_loss_db;
     rcs_fade_db; tangential_sensitivity_dbm TSS; tss_margin_db M.
     Book §8.16.12: (−75 + 13) − (−59.6 − 1.2 − 8 − 15) = 21.8 dB. Exact.
+
+    >>> float(if_gain_required_db(-59.6, 1.2, 8.0, 15.0, -75.0, 13.0))
+    21.8
     """
     weakest = _f(received_power_dbm) - _f(receive_loss_db) - _f(mixer_loss_db) - _f(rcs_fade_db)
     return _f(tangential_sensitivity_dbm) + _f(tss_margin_db) - weakest
-
-
-def range_resolution_m(pulse_width_s, speed_m_s=SPEED_OF_LIGHT_M_S):
-    """Range resolution ``ΔR = c τ / 2`` (m) of an uncompressed pulse (book §8.16.3: 2 m → 13.3 ns).
-    Args: pulse_width_s (0, ∞); speed_m_s (0, ∞)."""
-    check_range("pulse_width_s", pulse_width_s, 0.0, None, lo_open=True, where="radar.range_resolution_m")
-    return _f(speed_m_s) * _f(pulse_width_s) / 2.0
-
-
-def unambiguous_range_m(prf_hz, speed_m_s=SPEED_OF_LIGHT_M_S):
-    """Maximum unambiguous range ``c / (2 f_p)`` (m). Args: prf_hz (0, ∞)."""
-    check_range("prf_hz", prf_hz, 0.0, None, lo_open=True, where="radar.unambiguous_range_m")
-    return _f(speed_m_s) / (2.0 * _f(prf_hz))
-
-
-def max_prf_hz(max_range_m, speed_m_s=SPEED_OF_LIGHT_M_S):
-    """Highest PRF without range ambiguity ``c / (2 R_max)`` (Hz). Book §8.16.14: 300 m → 500 kHz
-    (c = 3e8). Args: max_range_m (0, ∞)."""
-    check_range("max_range_m", max_range_m, 0.0, None, lo_open=True, where="radar.max_prf_hz")
-    return _f(speed_m_s) / (2.0 * _f(max_range_m))
-
-
-def update_rate_hz(prf_hz, n_pulses):
-    """Measurement update rate ``f_p / N`` (Hz) when N pulses are integrated per output.
-    Book §8.16.14: 500 kHz / 16 = 31.25 kHz. Args: prf_hz (0, ∞); n_pulses [1, ∞)."""
-    check_range("prf_hz", prf_hz, 0.0, None, lo_open=True, where="radar.update_rate_hz")
-    check_range("n_pulses", n_pulses, 1.0, None, where="radar.update_rate_hz")
-    return _f(prf_hz) / _f(n_pulses)
-
-
-def hits_per_scan(beamwidth_deg, prf_hz, scan_rate_rpm):
-    """Pulses per beamwidth of a scanning radar ``n_b = θ_b f_p / (6 ω_m)`` (book eq (9.26)).
-
-    Args: beamwidth_deg θ_b (deg), (0, 360]; prf_hz f_p (Hz), (0, ∞); scan_rate_rpm ω_m (rpm),
-    (0, ∞). Book §9.9.1.1: 1.25° × 360 Hz / (6 × 6 rpm) = 12.5.
-    """
-    w = "radar.hits_per_scan"
-    check_range("beamwidth_deg", beamwidth_deg, 0.0, 360.0, lo_open=True, where=w)
-    check_range("prf_hz", prf_hz, 0.0, None, lo_open=True, where=w)
-    check_range("scan_rate_rpm", scan_rate_rpm, 0.0, None, lo_open=True, where=w)
-    return _f(beamwidth_deg) * _f(prf_hz) / (6.0 * _f(scan_rate_rpm))

@@ -1,24 +1,18 @@
-"""Sonar: source level, the sonar equations, detection threshold, side-scan geometry and the
-``"sonar"`` sensor chain.
+"""The ``"sonar"`` chain: active and passive sonar link budgets (book ch. 12; Urick's sonar
+equations), from the source level to the signal excess, Pd and detection range.
 
-Physics reused from the rest of the package: absorption and spreading
-(:mod:`diffsense.physics.propagation.acoustic`), sea noise and hydrophone voltages (:mod:`diffsense.physics.noise`),
+Equations live beside it: source levels (:mod:`.levels`), the sonar equations (:mod:`.equations`),
+detection thresholds (:mod:`.threshold`) and the scene parts (:mod:`.parts`). Physics reused from
+the rest of the package: absorption, sound speed and spreading
+(:mod:`diffsense.physics.propagation.acoustic`), sea noise (:mod:`diffsense.physics.sea_noise`),
 reverberation and scattering strengths (:mod:`diffsense.physics.clutter`), target strengths
-(:mod:`diffsense.physics.targets`), directivity (:mod:`diffsense.physics.antennas`) and the detection layer
-(:mod:`diffsense.detection`).
+(:mod:`diffsense.physics.targets`), directivity (:mod:`diffsense.physics.antennas`), resolutions,
+PRF and duty cycle (:mod:`diffsense.physics.waveforms`, with the speed of sound) and the detection
+layer (:mod:`diffsense.detection`).
 
-Sources
--------
-- G. Brooker, *Introduction to Sensors for Ranging and Imaging* (SciTech, 2009), ch. 12: side-scan
-  sonar §12.7-12.8, eqs (12.37)-(12.66), Tables 12.1-12.2; reverberation §8.15, eqs (8.47)-(8.48).
-- R. J. Urick, *Principles of Underwater Sound*, 3rd ed. (McGraw-Hill, 1983): the sonar equations
-  (ch. 2), source level from acoustic power (ch. 4), detection threshold and the detection index
-  of the receiver operating characteristic (ch. 12).
-- W. W. Peterson, T. G. Birdsall and W. C. Fox, "The theory of signal detectability", Trans. IRE
-  PGIT-4, 171-212 (1954): the Gaussian ROC, d = (Φ⁻¹(Pd) − Φ⁻¹(Pfa))².
-
-Decibel conventions: levels are dB re 1 µPa (pressure) at 1 m for source levels; noise spectrum
-levels are dB re 1 µPa²/Hz; target and scattering strengths dB re 1 m (1 m², 1 m³ per unit).
+Sources: G. Brooker, *Introduction to Sensors for Ranging and Imaging* (SciTech, 2009), ch. 12:
+side-scan sonar §12.7-12.8, eqs (12.37)-(12.66), Tables 12.1-12.2; reverberation §8.15, eqs
+(8.47)-(8.48). R. J. Urick, *Principles of Underwater Sound*, 3rd ed. (1983), ch. 2 and 12.
 """
 
 from __future__ import annotations
@@ -29,550 +23,27 @@ import jax.numpy as jnp
 import numpy as np
 from jax.scipy.special import ndtr, ndtri
 
-from diffsense.physics import antennas, clutter, noise, targets
-from diffsense import detection
-from diffsense.errors import DomainError
-from diffsense.numerics.checks import check_range, is_concrete
-from diffsense.sensors.chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, needs
-from diffsense.sensors.parts import scene_part
 from diffsense.detection.single_pulse import single_pulse_pd, single_pulse_required_snr_db
-from diffsense.physics.propagation import acoustic
+from diffsense.errors import DomainError
+from diffsense.numerics.db import db10, from_db10, from_db20, increment_db, power_sum_db
 from diffsense.numerics.rootfind import decreasing_root_log
+from diffsense.physics import antennas, clutter, sea_noise, targets, waveforms
+from diffsense.physics.constants import NOMINAL_SEA_SOUND_SPEED_M_S
+from diffsense.physics.propagation import acoustic
+from diffsense.sensors.chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, needs
+from diffsense.sensors.sonar import parts as sonar_parts
+from diffsense.sensors.sonar.equations import max_pulse_length_s
+from diffsense.sensors.sonar.levels import (
+    acoustic_impedance_rayl,
+    drive_voltage_rms_v,
+    source_level_db,
+    source_level_from_tvr_db,
+)
+from diffsense.sensors.sonar.threshold import detection_index, detection_threshold_energy_db
 
-__all__ = [
-    "SOURCE_LEVEL_CONSTANT_DB",
-    "acoustic_impedance_rayl",
-    "isotropic_intensity_w_m2",
-    "sound_pressure_level_db",
-    "source_level_db",
-    "source_level_from_acoustic_power_db",
-    "drive_voltage_rms_v",
-    "source_level_from_tvr_db",
-    "equivalent_pressure_level_db",
-    "echo_level_db",
-    "active_signal_excess_noise_db",
-    "active_signal_excess_reverberation_db",
-    "passive_signal_excess_db",
-    "detection_index",
-    "pd_from_detection_index",
-    "detection_threshold_known_signal_db",
-    "detection_threshold_energy_db",
-    "detection_threshold_db",
-    "pulse_range_resolution_m",
-    "chirp_range_resolution_m",
-    "cross_range_resolution_m",
-    "max_prf_hz",
-    "duty_cycle",
-    "max_pulse_length_s",
-    "pulse_compression_gain_db",
-    "SonarChain",
-]
+__all__ = ["SonarChain"]
 
-_LN10 = float(np.log(10.0))
 _DEG = float(np.pi / 180.0)
-
-
-def _db10(x):
-    return (10.0 / _LN10) * jnp.log(x)
-
-
-def _db20(x):
-    return (20.0 / _LN10) * jnp.log(x)
-
-
-def _power_sum_db(a_db, b_db):
-    """10 log10(10^(a/10) + 10^(b/10)), stable for any magnitudes."""
-    k = _LN10 / 10.0
-    return jnp.logaddexp(a_db * k, b_db * k) / k
-
-
-def _increment_db(x_db):
-    """10 log10(1 + 10^(x/10)) (the rise of a level when a second one x dB above it is added)."""
-    k = _LN10 / 10.0
-    return jnp.logaddexp(0.0, x_db * k) / k
-
-
-# ---------------------------------------------------------------------------------------------
-# Source level
-# ---------------------------------------------------------------------------------------------
-
-
-def acoustic_impedance_rayl(density_kg_m3, sound_speed_m_s):
-    """Characteristic acoustic impedance ``Z = ρ c`` (kg m⁻² s⁻¹, i.e. rayl).
-
-    Book eq (12.45): 1026.4 × 1522 = 1.56e6 rayl for sea water; eq (13.28): 1.229 × 340 = 418
-    rayl for air. Exact for a plane progressive wave.
-
-    Args:
-        density_kg_m3: density ρ (kg/m³), in (0, ∞).
-        sound_speed_m_s: sound speed c (m/s), in (0, ∞).
-    """
-    w = "acoustic_impedance_rayl"
-    check_range("density_kg_m3", density_kg_m3, 0.0, None, lo_open=True, where=w)
-    check_range("sound_speed_m_s", sound_speed_m_s, 0.0, None, lo_open=True, where=w)
-    return jnp.asarray(density_kg_m3) * jnp.asarray(sound_speed_m_s)
-
-
-def isotropic_intensity_w_m2(electrical_power_w, efficiency, range_m=1.0):
-    """Intensity of an omnidirectional projector ``I = P η / (4π R²)`` (W/m²).
-
-    Book eq (12.42): 1500 W × 0.4 / 4π = 47.7 W/m² at 1 m. Exact (far field, lossless medium).
-
-    Args:
-        electrical_power_w: electrical input power P (W), in (0, ∞).
-        efficiency: electro-acoustic conversion efficiency η, in (0, 1].
-        range_m: distance R (m), in (0, ∞); 1 m for a source level.
-    """
-    w = "isotropic_intensity_w_m2"
-    check_range("electrical_power_w", electrical_power_w, 0.0, None, lo_open=True, where=w)
-    check_range("efficiency", efficiency, 0.0, 1.0, lo_open=True, where=w)
-    check_range("range_m", range_m, 0.0, None, lo_open=True, where=w)
-    r = jnp.asarray(range_m)
-    return jnp.asarray(electrical_power_w) * jnp.asarray(efficiency) / (4.0 * np.pi * r * r)
-
-
-def sound_pressure_level_db(intensity_w_m2, impedance_rayl, reference_pressure_pa=1e-6):
-    """Sound pressure level of a plane wave ``L = 10 log10(I Z / p_ref²)`` (dB re p_ref).
-
-    From p² = I Z (book eq (12.46), (13.27)). With p_ref = 1 µPa (water) this is the book's
-    ``120 + 10 log10(I Z)`` (eq (12.48)); with p_ref = 20 µPa and Z = 418 rayl (air) it is
-    ``10 log10 I + 120.2`` (eq (13.29), which the book rounds to +120). Exact.
-
-    Args:
-        intensity_w_m2: intensity I (W/m²), in (0, ∞).
-        impedance_rayl: acoustic impedance Z (rayl), in (0, ∞).
-        reference_pressure_pa: reference pressure (Pa), in (0, ∞); 1e-6 (water) or 2e-5 (air).
-    """
-    w = "sound_pressure_level_db"
-    check_range("intensity_w_m2", intensity_w_m2, 0.0, None, lo_open=True, where=w)
-    check_range("impedance_rayl", impedance_rayl, 0.0, None, lo_open=True, where=w)
-    check_range("reference_pressure_pa", reference_pressure_pa, 0.0, None, lo_open=True, where=w)
-    p_ref = jnp.asarray(reference_pressure_pa)
-    return _db10(jnp.asarray(intensity_w_m2) * jnp.asarray(impedance_rayl) / (p_ref * p_ref))
-
-
-def source_level_db(electrical_power_w, efficiency, directivity, impedance_rayl):
-    """On-axis source level from electrical power ``SL = 120 + 10 log10(P η G Z / 4π)`` (dB re 1 µPa at 1 m).
-
-    The book's intensity form (eqs (12.42)-(12.48)): on-axis intensity at 1 m is
-    I = G P η / 4π and SL = 10 log10(I Z / (1 µPa)²). ITC-5202 example: 1500 W, η = 0.4,
-    G = 458.4, Z = 1.56e6 → 225.3 dB. Exact given P, η, G and Z (far-field extrapolation to 1 m).
-
-    Args:
-        electrical_power_w: electrical drive power P (W), in (0, ∞).
-        efficiency: electro-acoustic efficiency η, in (0, 1].
-        directivity: transmit directivity G (linear), in [1, ∞).
-        impedance_rayl: ρc of the water (rayl), in (0, ∞).
-    """
-    w = "source_level_db"
-    check_range("directivity", directivity, 1.0, None, where=w)
-    intensity = isotropic_intensity_w_m2(electrical_power_w, efficiency) * jnp.asarray(directivity)
-    return sound_pressure_level_db(intensity, impedance_rayl, 1e-6)
-
-
-SOURCE_LEVEL_CONSTANT_DB = 170.8
-"""``10 log10(ρc × 1e12 / 4π)`` for ρc = 1.5e6 rayl (exactly 170.77 dB), rounded as usually quoted."""
-
-
-def source_level_from_acoustic_power_db(acoustic_power_w, directivity_index_db):
-    """Source level from radiated acoustic power ``SL = 170.8 + 10 log10 P_a + DI`` (dB re 1 µPa at 1 m).
-
-    The constant is 10 log10(ρc · 10¹² / 4π) for standard sea water ρc = 1.5e6 rayl (170.77 dB,
-    quoted as 170.8; Urick ch. 4). Older texts referred to 1 µbar at 1 yd quote 71.5 dB, the
-    same relation: 170.77 − 100 + 20 log10(1/0.9144) = 71.55. Against :func:`source_level_db`
-    it differs by 10 log10(1.5e6 / ρc) + 0.031 dB (−0.15 dB for the book's 1.56e6 rayl).
-
-    Args:
-        acoustic_power_w: radiated acoustic power P_a = η P (W), in (0, ∞).
-        directivity_index_db: transmit directivity index DI (dB), in [0, 80].
-    """
-    w = "source_level_from_acoustic_power_db"
-    check_range("acoustic_power_w", acoustic_power_w, 0.0, None, lo_open=True, where=w)
-    check_range("directivity_index_db", directivity_index_db, 0.0, 80.0, where=w)
-    return SOURCE_LEVEL_CONSTANT_DB + _db10(jnp.asarray(acoustic_power_w)) + jnp.asarray(directivity_index_db)
-
-
-def drive_voltage_rms_v(electrical_power_w, conductance_s):
-    """RMS drive voltage for a power into a transducer conductance ``V = sqrt(P / G)`` (V).
-
-    Book eqs (12.49)-(12.50): 1500 W into 5.5 mS → 522 V rms. Exact for a resistive load G.
-
-    Args:
-        electrical_power_w: electrical power P (W), in (0, ∞).
-        conductance_s: transducer input conductance G (S), in (0, ∞).
-    """
-    w = "drive_voltage_rms_v"
-    check_range("electrical_power_w", electrical_power_w, 0.0, None, lo_open=True, where=w)
-    check_range("conductance_s", conductance_s, 0.0, None, lo_open=True, where=w)
-    return jnp.sqrt(jnp.asarray(electrical_power_w) / jnp.asarray(conductance_s))
-
-
-def source_level_from_tvr_db(tvr_db, drive_voltage_rms_v_):
-    """Source level from the transmitting voltage response ``SL = TVR + 20 log10 V`` (dB re 1 µPa at 1 m).
-
-    Book eq (12.51): TVR 170 dB re 1 µPa/V at 1 m and 522 V rms → 224.3 dB. Exact by definition
-    of the TVR (read off the maker's curve at the operating frequency).
-
-    Args:
-        tvr_db: TVR (dB re 1 µPa/V at 1 m), in [50, 300].
-        drive_voltage_rms_v_: RMS drive voltage V (V), in (0, ∞).
-    """
-    w = "source_level_from_tvr_db"
-    check_range("tvr_db", tvr_db, 50.0, 300.0, where=w)
-    check_range("drive_voltage_rms_v", drive_voltage_rms_v_, 0.0, None, lo_open=True, where=w)
-    return jnp.asarray(tvr_db) + _db20(jnp.asarray(drive_voltage_rms_v_))
-
-
-def equivalent_pressure_level_db(voltage_rms_v, receive_sensitivity_db):
-    """Pressure level that would produce an RMS voltage ``L = 20 log10 V − M`` (dB re 1 µPa).
-
-    Inverse of :func:`diffsense.physics.noise.hydrophone_voltage_v` (book eqs (12.65)-(12.66)); used to
-    refer an amplifier's noise voltage to the water: 66 nV with M = −180 dB re 1 V/µPa → 36.4 dB.
-
-    Args:
-        voltage_rms_v: RMS voltage V (V), in (0, ∞).
-        receive_sensitivity_db: open-circuit receive response M (dB re 1 V/µPa), in [-300, 0].
-    """
-    w = "equivalent_pressure_level_db"
-    check_range("voltage_rms_v", voltage_rms_v, 0.0, None, lo_open=True, where=w)
-    check_range("receive_sensitivity_db", receive_sensitivity_db, -300.0, 0.0, where=w)
-    return _db20(jnp.asarray(voltage_rms_v)) - jnp.asarray(receive_sensitivity_db)
-
-
-# ---------------------------------------------------------------------------------------------
-# Sonar equations
-# ---------------------------------------------------------------------------------------------
-
-
-def echo_level_db(source_level_db_, transmission_loss_db, target_strength_db):
-    """Echo level at the receiver ``EL = SL − 2 TL + TS`` (dB re 1 µPa), book eq (12.57).
-
-    Args:
-        source_level_db_: SL (dB re 1 µPa at 1 m), in [0, 300].
-        transmission_loss_db: one-way TL (dB), in [-100, 1e5].
-        target_strength_db: TS (dB re 1 m), in [-150, 100].
-    """
-    w = "echo_level_db"
-    check_range("source_level_db", source_level_db_, 0.0, 300.0, where=w)
-    check_range("transmission_loss_db", transmission_loss_db, -100.0, 1e5, where=w)
-    check_range("target_strength_db", target_strength_db, -150.0, 100.0, where=w)
-    return jnp.asarray(source_level_db_) - 2.0 * jnp.asarray(transmission_loss_db) + jnp.asarray(target_strength_db)
-
-
-def active_signal_excess_noise_db(
-    source_level_db_, transmission_loss_db, target_strength_db, noise_level_db, directivity_index_db, detection_threshold_db_
-):
-    """Noise-limited active sonar equation ``SE = SL − 2 TL + TS − (NL − DI) − DT`` (dB).
-
-    NL is the isotropic noise level in the receiver band (dB re 1 µPa), DI the receive
-    directivity index and DT the detection threshold in the same band (Urick ch. 2). SE ≥ 0 means
-    detection at the (Pd, Pfa) that defines DT. Exact bookkeeping of the terms (all dB).
-
-    Args: levels in dB (SL, NL re 1 µPa; TS re 1 m; TL, DI, DT in dB), any real values.
-    """
-    return (
-        jnp.asarray(source_level_db_)
-        - 2.0 * jnp.asarray(transmission_loss_db)
-        + jnp.asarray(target_strength_db)
-        - (jnp.asarray(noise_level_db) - jnp.asarray(directivity_index_db))
-        - jnp.asarray(detection_threshold_db_)
-    )
-
-
-def active_signal_excess_reverberation_db(
-    source_level_db_, transmission_loss_db, target_strength_db, reverberation_level_db, detection_threshold_db_
-):
-    """Reverberation-limited active sonar equation ``SE = SL − 2 TL + TS − RL − DT`` (dB).
-
-    RL is the reverberation level at the receiver (dB re 1 µPa, see
-    :func:`diffsense.physics.clutter.reverberation_level_db`); directivity enters RL through the
-    reverberating area or volume, so no DI term appears (Urick ch. 2).
-
-    Args: levels in dB, any real values.
-    """
-    return (
-        jnp.asarray(source_level_db_)
-        - 2.0 * jnp.asarray(transmission_loss_db)
-        + jnp.asarray(target_strength_db)
-        - jnp.asarray(reverberation_level_db)
-        - jnp.asarray(detection_threshold_db_)
-    )
-
-
-def passive_signal_excess_db(source_level_db_, transmission_loss_db, noise_level_db, directivity_index_db, detection_threshold_db_):
-    """Passive sonar equation ``SE = SL − TL − (NL − DI) − DT`` (dB).
-
-    SL is the target's radiated level in the receiver band (dB re 1 µPa at 1 m), TL one way
-    (Urick ch. 2).
-
-    Args: levels in dB, any real values.
-    """
-    return (
-        jnp.asarray(source_level_db_)
-        - jnp.asarray(transmission_loss_db)
-        - (jnp.asarray(noise_level_db) - jnp.asarray(directivity_index_db))
-        - jnp.asarray(detection_threshold_db_)
-    )
-
-
-# ---------------------------------------------------------------------------------------------
-# Detection threshold
-# ---------------------------------------------------------------------------------------------
-
-
-def _check_pd_pfa(where, pd, pfa):
-    check_range("pd", pd, 0.0, 1.0, lo_open=True, hi_open=True, where=where)
-    check_range("pfa", pfa, 0.0, 1.0, lo_open=True, hi_open=True, where=where)
-    if is_concrete(pd) and is_concrete(pfa):
-        gap = np.asarray(pd, dtype=float) - np.asarray(pfa, dtype=float)
-        check_range("pd - pfa", gap, 0.0, None, lo_open=True, where=where)
-
-
-def detection_index(pd, pfa):
-    """Detection index of the Gaussian ROC ``d = (Φ⁻¹(Pd) − Φ⁻¹(Pfa))²``.
-
-    For a decision statistic that is Gaussian with equal variance σ² under noise and under
-    signal plus noise, d = (ΔM)²/σ² and Pfa = Q(T), Pd = Q(T − √d) (Peterson, Birdsall & Fox
-    1954; Urick ch. 12 plots these ROC curves). Pd 0.5, Pfa 1e-4 → d = 13.8. Exact for that
-    model; for envelope-detected sinusoids use :func:`detection_threshold_db`.
-
-    Args:
-        pd: detection probability, in (0, 1), > pfa.
-        pfa: false-alarm probability, in (0, 1).
-    """
-    _check_pd_pfa("detection_index", pd, pfa)
-    root = ndtri(jnp.asarray(pd, dtype=float)) - ndtri(jnp.asarray(pfa, dtype=float))
-    return root * root
-
-
-def pd_from_detection_index(detection_index_, pfa):
-    """Detection probability of the Gaussian ROC ``Pd = Φ(√d + Φ⁻¹(Pfa))``.
-
-    Inverse of :func:`detection_index` in Pd. Exact for the equal-variance Gaussian model.
-
-    Args:
-        detection_index_: d, in [0, ∞) (the derivative in d is singular at d = 0).
-        pfa: false-alarm probability, in (0, 1).
-    """
-    w = "pd_from_detection_index"
-    check_range("detection_index", detection_index_, 0.0, None, where=w)
-    check_range("pfa", pfa, 0.0, 1.0, lo_open=True, hi_open=True, where=w)
-    return ndtr(jnp.sqrt(jnp.asarray(detection_index_, dtype=float)) + ndtri(jnp.asarray(pfa, dtype=float)))
-
-
-def detection_threshold_known_signal_db(detection_index_, duration_s):
-    """Detection threshold for a signal known exactly (cross-correlator) ``DT = 10 log10(d / 2t)`` (dB).
-
-    Referred to the noise in a 1 Hz band (signal power over noise spectral density N0). The
-    correlator output has d = 2E/N0 with E = S t the signal energy, so S/N0 = d/(2t) (Urick
-    ch. 12). Exact for white Gaussian noise.
-
-    Args:
-        detection_index_: d, in (0, ∞).
-        duration_s: signal duration t (s), in (0, ∞).
-    """
-    w = "detection_threshold_known_signal_db"
-    check_range("detection_index", detection_index_, 0.0, None, lo_open=True, where=w)
-    check_range("duration_s", duration_s, 0.0, None, lo_open=True, where=w)
-    return _db10(jnp.asarray(detection_index_) / (2.0 * jnp.asarray(duration_s)))
-
-
-def detection_threshold_energy_db(detection_index_, bandwidth_hz, duration_s):
-    """Detection threshold of an energy detector for a noise-like signal ``DT = 5 log10(d B / t)`` (dB).
-
-    Referred to the noise in a 1 Hz band. With band-level SNR s = S/N and B t ≫ 1 the
-    integrator output gives d = s² B t (Urick ch. 12), so S/N0 = B s = sqrt(d B / t). Subtract
-    10 log10 B for the threshold in the band B: ``5 log10(d / (B t))``. Error: the Gaussian
-    approximation of the chi-square statistic is optimistic for small B t. Against the exact
-    chi-square detector (Gaussian signal in Gaussian noise, 2Bt degrees of freedom) at Pd 0.9,
-    Pfa 1e-6 it is low by 3.5 dB at B t = 10, 1.1 dB at 100, 0.34 dB at 1e3 and 0.11 dB at 1e4
-    (tests/test_sonar.py).
-
-    Args:
-        detection_index_: d, in (0, ∞).
-        bandwidth_hz: receiver bandwidth B (Hz), in (0, ∞).
-        duration_s: integration time t (s), in (0, ∞).
-    """
-    w = "detection_threshold_energy_db"
-    check_range("detection_index", detection_index_, 0.0, None, lo_open=True, where=w)
-    check_range("bandwidth_hz", bandwidth_hz, 0.0, None, lo_open=True, where=w)
-    check_range("duration_s", duration_s, 0.0, None, lo_open=True, where=w)
-    return 0.5 * _db10(jnp.asarray(detection_index_) * jnp.asarray(bandwidth_hz) / jnp.asarray(duration_s))
-
-
-def detection_threshold_db(pd, pfa, swerling=0):
-    """Detection threshold in the receiver band for an envelope-detected echo (dB).
-
-    The book treats the sonar echo as a sinusoid in white noise and reads the required SNR off
-    the radar Pd/Pfa curves (§12.8); this is :func:`diffsense.detection.required_snr_db` for one
-    pulse (exact Marcum/Swerling, ≤ 1e-9 dB). Pd 0.9, Pfa 1e-6, steady echo → 13.2 dB.
-
-    Args:
-        pd: detection probability, in (pfa, 1 − 1e-12].
-        pfa: false-alarm probability, in [1e-300, 0.5].
-        swerling: echo fluctuation model 0-4 (static).
-    """
-    return detection.required_snr_db(pd, pfa, 1, swerling)
-
-
-# ---------------------------------------------------------------------------------------------
-# Side-scan geometry and timing
-# ---------------------------------------------------------------------------------------------
-
-
-def pulse_range_resolution_m(pulse_width_s, sound_speed_m_s=1500.0):
-    """Range resolution of an uncompressed pulse ``δR = c τ / 2`` (m). 333 µs at 1522 m/s → 0.25 m.
-
-    Args:
-        pulse_width_s: τ (s), in (0, ∞).
-        sound_speed_m_s: c (m/s), in (0, ∞).
-    """
-    w = "pulse_range_resolution_m"
-    check_range("pulse_width_s", pulse_width_s, 0.0, None, lo_open=True, where=w)
-    check_range("sound_speed_m_s", sound_speed_m_s, 0.0, None, lo_open=True, where=w)
-    return jnp.asarray(sound_speed_m_s) * jnp.asarray(pulse_width_s) / 2.0
-
-
-def chirp_range_resolution_m(chirp_bandwidth_hz, sound_speed_m_s=1500.0):
-    """Range resolution after pulse compression ``δR = c / (2 Δf)`` (m), book eq (12.37): 15 kHz → 0.05 m.
-
-    Args:
-        chirp_bandwidth_hz: swept bandwidth Δf (Hz), in (0, ∞).
-        sound_speed_m_s: c (m/s), in (0, ∞).
-    """
-    w = "chirp_range_resolution_m"
-    check_range("chirp_bandwidth_hz", chirp_bandwidth_hz, 0.0, None, lo_open=True, where=w)
-    check_range("sound_speed_m_s", sound_speed_m_s, 0.0, None, lo_open=True, where=w)
-    return jnp.asarray(sound_speed_m_s) / (2.0 * jnp.asarray(chirp_bandwidth_hz))
-
-
-def cross_range_resolution_m(range_m, beamwidth_rad):
-    """Unfocused cross-range resolution ``δx = R θ_az`` (m), book eq (12.38): 500 m, 1.5° → 13.1 m.
-
-    Args:
-        range_m: R (m), in (0, ∞).
-        beamwidth_rad: azimuth beamwidth θ_az (rad), in (0, π].
-    """
-    w = "cross_range_resolution_m"
-    check_range("range_m", range_m, 0.0, None, lo_open=True, where=w)
-    check_range("beamwidth_rad", beamwidth_rad, 0.0, np.pi, lo_open=True, where=w)
-    return jnp.asarray(range_m) * jnp.asarray(beamwidth_rad)
-
-
-def max_prf_hz(max_range_m, sound_speed_m_s=1500.0):
-    """Highest unambiguous pulse repetition frequency ``f_pr = c / (2 R_max)`` (Hz), book eq (12.39): 1.52 Hz.
-
-    Args:
-        max_range_m: R_max (m), in (0, ∞).
-        sound_speed_m_s: c (m/s), in (0, ∞).
-    """
-    w = "max_prf_hz"
-    check_range("max_range_m", max_range_m, 0.0, None, lo_open=True, where=w)
-    check_range("sound_speed_m_s", sound_speed_m_s, 0.0, None, lo_open=True, where=w)
-    return jnp.asarray(sound_speed_m_s) / (2.0 * jnp.asarray(max_range_m))
-
-
-def duty_cycle(prf_hz, pulse_width_s):
-    """Transmit duty cycle ``χ = f_pr τ`` (fraction; the book quotes 100 χ %), eq (12.40): 0.05 %.
-
-    Args:
-        prf_hz: f_pr (Hz), in (0, ∞).
-        pulse_width_s: τ (s), in (0, ∞).
-    """
-    w = "duty_cycle"
-    check_range("prf_hz", prf_hz, 0.0, None, lo_open=True, where=w)
-    check_range("pulse_width_s", pulse_width_s, 0.0, None, lo_open=True, where=w)
-    return jnp.asarray(prf_hz) * jnp.asarray(pulse_width_s)
-
-
-def max_pulse_length_s(max_duty_cycle, prf_hz):
-    """Longest pulse (chirp) allowed by a duty-cycle limit ``τ = χ / f_pr`` (s), eq (12.41): 5 % → 32.9 ms.
-
-    Args:
-        max_duty_cycle: χ (fraction), in (0, 1].
-        prf_hz: f_pr (Hz), in (0, ∞).
-    """
-    w = "max_pulse_length_s"
-    check_range("max_duty_cycle", max_duty_cycle, 0.0, 1.0, lo_open=True, where=w)
-    check_range("prf_hz", prf_hz, 0.0, None, lo_open=True, where=w)
-    return jnp.asarray(max_duty_cycle) / jnp.asarray(prf_hz)
-
-
-def pulse_compression_gain_db(bandwidth_hz, pulse_width_s):
-    """SNR gain of a matched filter on a coded pulse ``10 log10(B τ)`` relative to noise in B (dB).
-
-    The matched-filter output SNR is E/N0 = S τ / N0 = (S / N0 B) · B τ, so referred to the noise
-    in the compressed bandwidth B the echo gains B τ (0 dB for a plain pulse with B = 1/τ).
-    Exact for a matched filter in white noise (North 1943; Skolnik, *Introduction to Radar
-    Systems*, ch. 10).
-
-    Args:
-        bandwidth_hz: B (Hz), in (0, ∞).
-        pulse_width_s: τ (s), in (0, ∞).
-    """
-    w = "pulse_compression_gain_db"
-    check_range("bandwidth_hz", bandwidth_hz, 0.0, None, lo_open=True, where=w)
-    check_range("pulse_width_s", pulse_width_s, 0.0, None, lo_open=True, where=w)
-    return _db10(jnp.asarray(bandwidth_hz) * jnp.asarray(pulse_width_s))
-
-
-# ---------------------------------------------------------------------------------------------
-# Scene parts
-# ---------------------------------------------------------------------------------------------
-
-
-@scene_part("sea_noise")
-def sea_noise_spectrum_level_db(sea_state, freq_hz):
-    """Knudsen sea-surface noise spectrum level, dB re 1 µPa²/Hz (book eq (12.61), Table 12.2)."""
-    return noise.sea_surface_noise_spectrum_level_db(sea_state, freq_hz)
-
-
-@scene_part("thermal_noise")
-def thermal_noise_spectrum_level_db(freq_hz):
-    """Mellen's thermal noise of sea water, dB re 1 µPa²/Hz (book eq (9.10))."""
-    return noise.thermal_sea_noise_spectrum_level_db(freq_hz)
-
-
-@scene_part("receiver_noise")
-def receiver_noise_level_db(noise_density_v_rthz, bandwidth_hz, receive_sensitivity_db):
-    """Amplifier voltage noise in the band referred to the water, dB re 1 µPa (book §12.8)."""
-    v = noise.voltage_noise_rms_v(noise_density_v_rthz, bandwidth_hz)
-    return _db20(v) - receive_sensitivity_db
-
-
-@scene_part("surface_reverberation")
-def surface_reverberation_level_db(sl_db, tl_db, strength_db, range_m, az_rad, tau_s, c):
-    """Sea-surface reverberation level, A = (cτ/2) R θ_az (book eq (8.47)), dB re 1 µPa."""
-    return clutter.surface_reverberation_level_db(sl_db, tl_db, strength_db, range_m, az_rad, tau_s, speed_m_s=c)
-
-
-@scene_part("surface_reverberation")
-def surface_chapman_harris_strength_db(grazing_rad, wind_speed_knots, freq_hz):
-    """Chapman-Harris sea-surface scattering strength, dB."""
-    return clutter.chapman_harris_surface_scattering_strength_db(grazing_rad, wind_speed_knots, freq_hz)
-
-
-@scene_part("bottom_reverberation")
-def bottom_reverberation_level_db(sl_db, tl_db, strength_db, range_m, az_rad, tau_s, c):
-    """Sea-floor reverberation level, A = (cτ/2) R θ_az (book eq (8.47)), dB re 1 µPa."""
-    return clutter.surface_reverberation_level_db(sl_db, tl_db, strength_db, range_m, az_rad, tau_s, speed_m_s=c)
-
-
-@scene_part("bottom_reverberation")
-def bottom_lambert_strength_db(grazing_rad, mu_db):
-    """Lambert's-law bottom scattering strength, dB."""
-    return clutter.lambert_scattering_strength_db(grazing_rad, mu_db)
-
-
-@scene_part("volume_reverberation")
-def volume_reverberation_level_db(sl_db, tl_db, strength_db, range_m, az_rad, el_rad, tau_s, c):
-    """Volume reverberation level, V = (cτ/2) π R² θ_az θ_el / 4 (book eq (8.48)), dB re 1 µPa."""
-    return clutter.volume_reverberation_level_db(sl_db, tl_db, strength_db, range_m, az_rad, el_rad, tau_s, speed_m_s=c)
-
-
-# ---------------------------------------------------------------------------------------------
-# The chain
-# ---------------------------------------------------------------------------------------------
 
 _NOISE_PARTS = ("sea_noise", "thermal_noise", "receiver_noise")
 _AMBIENT_PARTS = ("sea_noise", "thermal_noise")
@@ -596,11 +67,11 @@ class SonarChain(Chain):
     strengths (eqs (8.47)-(8.48)); PG = 10 log10(B τ) the pulse-compression gain of a chirp
     (0 dB for a plain pulse, B = 1/τ). The detection threshold is the book's: the required
     single-pulse SNR of an envelope detector for (Pd, Pfa) and the Swerling option
-    (:func:`detection_threshold_db`). ``signal_excess_db`` = SNR − DT.
+    (:func:`diffsense.sensors.sonar.threshold.detection_threshold_db`). ``signal_excess_db`` = SNR − DT.
 
     Passive (``mode="passive"``): SNR = SL − TL − (NL_amb − DI ⊕ NL_rx) in the band B, and the
     threshold of an energy detector integrating for t seconds, DT = 5 log10(d / (B t)) with the
-    detection index d of (Pd, Pfa) (:func:`detection_threshold_energy_db`; Urick's large-Bt form,
+    detection index d of (Pd, Pfa) (:func:`diffsense.sensors.sonar.threshold.detection_threshold_energy_db`; Urick's large-Bt form,
     optimistic by 1.1 dB at B t = 100 and 0.34 dB at 1000); Pd from the Gaussian ROC.
 
     ``detection_range_m`` solves SNR(R) = DT in [1 m, 1000 km] (:func:`diffsense.numerics.rootfind.decreasing_root_log`);
@@ -678,7 +149,7 @@ class SonarChain(Chain):
         absorption = self.option(scene, "absorption")
         if not mackenzie:
             ps.append(Param("sound_speed_m_s", "m/s", "speed of sound in the water; book §12.8: 1522 m/s",
-                            default=1500.0, lo=1400.0, hi=1650.0))
+                            default=NOMINAL_SEA_SOUND_SPEED_M_S, lo=1400.0, hi=1650.0))
         needs_water = mackenzie or absorption == "francois_garrison"
         if needs_water:
             ps.append(Param("temperature_c", "degC", "water temperature (°C)", default=5.0, lo=-2.0, hi=30.0))
@@ -746,6 +217,10 @@ class SonarChain(Chain):
             ps.append(Param("seafloor_scattering_strength_db", "dB",
                             "bottom scattering strength S_b of the imaged sea floor (book §12.8: −20 dB, pebbles and rock)",
                             default=-20.0, lo=-100.0, hi=0.0))
+        return ps + self._reverberation_parameters(scene)
+
+    def _reverberation_parameters(self, scene):
+        ps = []
         if scene.has("surface_reverberation"):
             if self.option(scene, "surface_scattering") == "constant":
                 ps.append(Param("surface_scattering_strength_db", "dB",
@@ -817,9 +292,8 @@ class SonarChain(Chain):
 
     # -- evaluation -----------------------------------------------------------------------
 
-    def _environment(self, scene, p):
-        env = {}
-        freq = p["freq_hz"]
+    def _medium(self, scene, p):
+        """Sound speed (m/s) and absorption (dB/m) of the water."""
         if self.option(scene, "sound_speed") == "mackenzie":
             c = acoustic.sound_speed_seawater(p["temperature_c"], p["salinity_ppt"], p["depth_m"])
         else:
@@ -827,50 +301,61 @@ class SonarChain(Chain):
         absorption = self.option(scene, "absorption")
         if absorption == "francois_garrison":
             alpha = acoustic.seawater_absorption_db_per_km(
-                freq, p["temperature_c"], p["salinity_ppt"], p["depth_m"], p["ph"]) / 1000.0
+                p["freq_hz"], p["temperature_c"], p["salinity_ppt"], p["depth_m"], p["ph"]) / 1000.0
         elif absorption == "book":
-            alpha = acoustic.seawater_absorption_simple_db_per_m(freq)
+            alpha = acoustic.seawater_absorption_simple_db_per_m(p["freq_hz"])
         else:
             alpha = p["absorption_db_per_m"]
-        gain = antennas.directivity_from_beamwidths_deg(p["beamwidth_az_deg"], p["beamwidth_el_deg"])
-        env.update(c=c, alpha=alpha, gain=gain, di=antennas.directivity_index_db(gain),
-                   az_rad=p["beamwidth_az_deg"] * _DEG, el_rad=p["beamwidth_el_deg"] * _DEG)
-        active = self.option(scene, "mode") == "active"
-        if active:
-            tau = p["pulse_width_s"]
-            if self.option(scene, "waveform") == "chirp":
-                bandwidth = p["chirp_bandwidth_hz"]
-                env["pg"] = pulse_compression_gain_db(bandwidth, tau)
-            else:
-                bandwidth = 1.0 / tau
-                env["pg"] = jnp.zeros_like(tau)
-            env["tau"] = tau
-            source = self.option(scene, "source")
-            if source == "power":
-                z = acoustic_impedance_rayl(p["water_density_kg_m3"], c)
-                env["sl"] = source_level_db(p["electrical_power_w"], p["efficiency"], gain, z)
-            elif source == "tvr":
-                env["sl"] = source_level_from_tvr_db(p["tvr_db"], drive_voltage_rms_v(p["electrical_power_w"], p["conductance_s"]))
-            else:
-                env["sl"] = p["source_level_db"]
+        return c, alpha
+
+    def _transmit(self, scene, p, env):
+        """Active mode: receiver bandwidth, pulse-compression gain and source level into ``env``."""
+        tau = p["pulse_width_s"]
+        if self.option(scene, "waveform") == "chirp":
+            bandwidth = p["chirp_bandwidth_hz"]
+            env["pg"] = waveforms.pulse_compression_gain_db(bandwidth, tau)
         else:
-            bandwidth = p["bandwidth_hz"]
+            bandwidth = 1.0 / tau
+            env["pg"] = jnp.zeros_like(tau)
+        env.update(tau=tau, bandwidth=bandwidth)
+        source = self.option(scene, "source")
+        if source == "power":
+            z = acoustic_impedance_rayl(p["water_density_kg_m3"], env["c"])
+            env["sl"] = source_level_db(p["electrical_power_w"], p["efficiency"], env["gain"], z)
+        elif source == "tvr":
+            v = drive_voltage_rms_v(p["electrical_power_w"], p["conductance_s"])
+            env["sl"] = source_level_from_tvr_db(p["tvr_db"], v)
+        else:
             env["sl"] = p["source_level_db"]
-        env["bandwidth"] = bandwidth
-        # noise
+
+    def _noise(self, scene, p, env):
+        """Ambient spectrum and band levels and the amplifier noise level into ``env``."""
         ambient = None
         if scene.has("sea_noise"):
-            ambient = sea_noise_spectrum_level_db(p["sea_state"], freq)
+            ambient = sonar_parts.sea_noise_spectrum_level_db(p["sea_state"], p["freq_hz"])
         if scene.has("thermal_noise"):
-            th = thermal_noise_spectrum_level_db(freq)
-            ambient = th if ambient is None else _power_sum_db(ambient, th)
+            th = sonar_parts.thermal_noise_spectrum_level_db(p["freq_hz"])
+            ambient = th if ambient is None else power_sum_db(ambient, th)
         env["ambient_spectrum"] = ambient
         if ambient is not None:
-            env["ambient_band"] = noise.band_noise_level_db(ambient, bandwidth, gain)
+            env["ambient_band"] = sea_noise.band_noise_level_db(ambient, env["bandwidth"], env["gain"])
         env["receiver"] = (
-            receiver_noise_level_db(p["amplifier_noise_density_v_rthz"], bandwidth, p["receive_sensitivity_db"])
+            sonar_parts.receiver_noise_level_db(p["amplifier_noise_density_v_rthz"], env["bandwidth"],
+                                          p["receive_sensitivity_db"])
             if scene.has("receiver_noise") else None
         )
+
+    def _environment(self, scene, p):
+        """Everything that does not depend on the range: medium, beam, source, band and noise."""
+        c, alpha = self._medium(scene, p)
+        gain = antennas.directivity_from_beamwidths_deg(p["beamwidth_az_deg"], p["beamwidth_el_deg"])
+        env = dict(c=c, alpha=alpha, gain=gain, di=antennas.directivity_index_db(gain),
+                   az_rad=p["beamwidth_az_deg"] * _DEG, el_rad=p["beamwidth_el_deg"] * _DEG)
+        if self.option(scene, "mode") == "active":
+            self._transmit(scene, p, env)
+        else:
+            env.update(bandwidth=p["bandwidth_hz"], sl=p["source_level_db"])
+        self._noise(scene, p, env)
         return env
 
     def _transmission_loss(self, scene, p, env, r):
@@ -887,34 +372,60 @@ class SonarChain(Chain):
         if target == "given":
             return p["target_strength_db"]
         # sea-floor patch δR × R θ_az (book eq (12.59))
-        area = env["c"] / (2.0 * env["bandwidth"]) * r * env["az_rad"]
-        return clutter.reflectivity_target_strength_db(p["seafloor_scattering_strength_db"], area)
+        cell_m = waveforms.range_resolution_bandwidth_m(env["bandwidth"], propagation_speed_m_s=env["c"])
+        return clutter.reflectivity_target_strength_db(p["seafloor_scattering_strength_db"], cell_m * r * env["az_rad"])
 
-    def _reverberation(self, scene, p, env, r, tl):
-        levels = []
-        tau_eff = 1.0 / env["bandwidth"]  # compressed cell length c/(2B)
-        sl, c = env["sl"], env["c"]
+    def _scattering_strengths(self, scene, p):
+        """Surface and bottom scattering strengths (dB) of the parts the scene holds."""
+        s = {}
         if scene.has("surface_reverberation"):
             if self.option(scene, "surface_scattering") == "constant":
-                s = p["surface_scattering_strength_db"]
+                s["surface"] = p["surface_scattering_strength_db"]
             else:
-                s = surface_chapman_harris_strength_db(p["surface_grazing_angle_deg"] * _DEG, p["wind_speed_knots"], p["freq_hz"])
-            levels.append(surface_reverberation_level_db(sl, tl, s, r, env["az_rad"], tau_eff, c))
+                s["surface"] = sonar_parts.surface_chapman_harris_strength_db(
+                    p["surface_grazing_angle_deg"] * _DEG, p["wind_speed_knots"], p["freq_hz"])
         if scene.has("bottom_reverberation"):
             if self.option(scene, "bottom_scattering") == "constant":
-                s = p["bottom_scattering_strength_db"]
+                s["bottom"] = p["bottom_scattering_strength_db"]
             else:
-                s = bottom_lambert_strength_db(p["bottom_grazing_angle_deg"] * _DEG, p["lambert_mu_db"])
-            levels.append(bottom_reverberation_level_db(sl, tl, s, r, env["az_rad"], tau_eff, c))
+                s["bottom"] = sonar_parts.bottom_lambert_strength_db(p["bottom_grazing_angle_deg"] * _DEG, p["lambert_mu_db"])
+        return s
+
+    def _reverberation(self, scene, p, env, r, tl):
+        """Total reverberation level (dB re 1 µPa) at range ``r``, or None without reverberation parts."""
+        levels = []
+        tau_eff = 1.0 / env["bandwidth"]  # compressed cell length c/(2B)
+        sl, c, az = env["sl"], env["c"], env["az_rad"]
+        strengths = self._scattering_strengths(scene, p)
+        if "surface" in strengths:
+            levels.append(sonar_parts.surface_reverberation_level_db(sl, tl, strengths["surface"], r, az, tau_eff, c))
+        if "bottom" in strengths:
+            levels.append(sonar_parts.bottom_reverberation_level_db(sl, tl, strengths["bottom"], r, az, tau_eff, c))
         if scene.has("volume_reverberation"):
-            levels.append(volume_reverberation_level_db(sl, tl, p["volume_scattering_strength_db"], r,
-                                                        env["az_rad"], env["el_rad"], tau_eff, c))
+            levels.append(sonar_parts.volume_reverberation_level_db(sl, tl, p["volume_scattering_strength_db"], r,
+                                                              az, env["el_rad"], tau_eff, c))
         if not levels:
             return None
         total = levels[0]
         for lv in levels[1:]:
-            total = _power_sum_db(total, lv)
+            total = power_sum_db(total, lv)
         return total
+
+    def _add_noise_terms(self, b, env):
+        """Noise terms of the budget, referred to the water on axis, in the band (before
+        compression); returns the noise level (dB re 1 µPa) or None."""
+        ambient, receiver = env.get("ambient_band"), env["receiver"]
+        if ambient is not None:
+            b.add("noise_spectrum_level", -env["ambient_spectrum"])
+            b.add("noise_bandwidth", -db10(env["bandwidth"]))
+            b.add("receive_directivity_index", env["di"])
+            if receiver is None:
+                return ambient
+            b.add("receiver_noise", -increment_db(receiver - ambient))
+            return power_sum_db(ambient, receiver)
+        if receiver is not None:
+            b.add("receiver_noise_level", -receiver)
+        return receiver
 
     def _link(self, scene, p, env, r):
         """Budget at range ``r`` and the intermediate levels."""
@@ -928,64 +439,79 @@ class SonarChain(Chain):
             b.add("two_way_absorption", -2.0 * absorption)
             ts = self._target_strength(scene, p, env, r)
             b.add("target_strength", ts)
-            extra["ts"] = ts
-            extra["signal"] = env["sl"] - 2.0 * tl + ts
+            extra.update(ts=ts, signal=env["sl"] - 2.0 * tl + ts)
         else:
             b.add("spreading", -spreading)
             b.add("absorption", -absorption)
             extra["signal"] = env["sl"] - tl
-        # noise, referred to the water on axis, in the band (before compression)
-        ambient, receiver = env.get("ambient_band"), env["receiver"]
-        noise_db = None
-        if ambient is not None:
-            b.add("noise_spectrum_level", -env["ambient_spectrum"])
-            b.add("noise_bandwidth", -_db10(env["bandwidth"]))
-            b.add("receive_directivity_index", env["di"])
-            noise_db = ambient
-            if receiver is not None:
-                b.add("receiver_noise", -_increment_db(receiver - ambient))
-                noise_db = _power_sum_db(ambient, receiver)
-        elif receiver is not None:
-            b.add("receiver_noise_level", -receiver)
-            noise_db = receiver
-        extra["noise"] = noise_db
+        noise_db = self._add_noise_terms(b, env)
         reverb = self._reverberation(scene, p, env, r, tl) if active else None
-        extra["reverb"] = reverb
+        extra.update(noise=noise_db, reverb=reverb)
         if noise_db is not None:
             if active and self.option(scene, "waveform") == "chirp":
                 b.add("processing_gain", env["pg"])
             if reverb is not None:
-                b.add("reverberation", -_increment_db(reverb + env["pg"] - noise_db))
+                b.add("reverberation", -increment_db(reverb + env["pg"] - noise_db))
         else:
             b.add("reverberation_level", -reverb)
         return b.build(), extra
 
-    def compute(self, scene, p, wanted=None) -> Evaluation:
-        """The budget at ``range_m`` and the outputs; with ``wanted`` (a frozenset of output names)
-        the active detection threshold solve, the Pd series and the range root find are traced
-        only when a wanted output needs them (see :class:`diffsense.sensors.chain.Chain`)."""
-        active = self.option(scene, "mode") == "active"
-        env = self._environment(scene, p)
-        budget, extra = self._link(scene, p, env, p["range_m"])
-        snr = budget.total
-        if active:
+    def _detection(self, scene, p, snr, wanted):
+        """Required SNR (detection threshold in the band), Pd at ``snr`` and, passive, the
+        detection index; a value not needed by ``wanted`` is None."""
+        if self.option(scene, "mode") == "active":
             # pd and pfa were checked against their domains (pd >= 0.1 > 0.05 >= pfa) by complete_parameters
             swerling = self.option(scene, "swerling")
             need_required = needs(wanted, "required_snr_db", "signal_excess_db", "snr_margin_db", "detection_range_m")
             required = single_pulse_required_snr_db(p["pd"], p["pfa"], swerling) if need_required else None
             pd_at = single_pulse_pd(snr, p["pfa"], swerling) if needs(wanted, "pd") else None
-        else:
-            d_req = detection_index(p["pd"], p["pfa"])
-            bt = p["bandwidth_hz"] * p["integration_time_s"]
-            required = detection_threshold_energy_db(d_req, p["bandwidth_hz"], p["integration_time_s"]) - _db10(p["bandwidth_hz"])
-            # achieved index d = (S/N)^2 B t ; sqrt(d) = (S/N) sqrt(Bt)
-            root_d = jnp.exp(jnp.clip(snr, -300.0, 300.0) * (_LN10 / 10.0)) * jnp.sqrt(bt)
-            pd_at = ndtr(root_d + ndtri(p["pfa"]))
+            return required, pd_at, None
+        d_req = detection_index(p["pd"], p["pfa"])
+        bt = p["bandwidth_hz"] * p["integration_time_s"]
+        required = detection_threshold_energy_db(d_req, p["bandwidth_hz"], p["integration_time_s"]) - db10(p["bandwidth_hz"])
+        # achieved index d = (S/N)^2 B t ; sqrt(d) = (S/N) sqrt(Bt)
+        root_d = from_db10(jnp.clip(snr, -300.0, 300.0)) * jnp.sqrt(bt)
+        return required, ndtr(root_d + ndtri(p["pfa"])), d_req
 
-        def residual(r):
-            return self._link(scene, p, env, r)[0].total - required
+    def _active_values(self, p, env, extra, snr):
+        """Outputs of the active mode: echo, target strength, resolutions and timing."""
+        c, r = env["c"], p["range_m"]
+        prf = waveforms.max_prf_hz(r, propagation_speed_m_s=c)
+        values = dict(
+            target_strength_db=extra["ts"] + jnp.zeros_like(snr),
+            echo_level_db=extra["signal"],
+            processing_gain_db=env["pg"],
+            range_resolution_m=waveforms.range_resolution_bandwidth_m(env["bandwidth"], propagation_speed_m_s=c),
+            cross_range_resolution_m=waveforms.real_aperture_cross_range_m(r, env["az_rad"]),
+            prf_hz=prf,
+            duty_cycle=waveforms.duty_cycle(prf, env["tau"]),
+            max_pulse_length_s=max_pulse_length_s(p["max_duty_cycle"], prf),
+        )
+        if extra["reverb"] is not None:
+            values["reverberation_level_db"] = extra["reverb"]
+        return values
 
+    def _level_values(self, p, env, extra):
+        """Bandwidth, voltages and noise levels at the transducer."""
         m = p["receive_sensitivity_db"]
+        # the hydrophone voltage 10^((L + M)/20) unchecked: the level may leave the checked
+        # domain of diffsense.physics.sea_noise.hydrophone_voltage_v at extreme ranges
+        values = {"bandwidth_hz": env["bandwidth"], "signal_voltage_v": from_db20(extra["signal"] + m)}
+        if extra["noise"] is not None:
+            values["noise_level_db"] = extra["noise"]
+            values["noise_voltage_v"] = from_db20(extra["noise"] + m)
+        if env["ambient_spectrum"] is not None:
+            values["noise_spectrum_level_db"] = env["ambient_spectrum"]
+        return values
+
+    def compute(self, scene, p, wanted=None) -> Evaluation:
+        """The budget at ``range_m`` and the outputs; with ``wanted`` (a frozenset of output names)
+        the active detection threshold solve, the Pd series and the range root find are traced
+        only when a wanted output needs them (see :class:`diffsense.sensors.chain.Chain`)."""
+        env = self._environment(scene, p)
+        budget, extra = self._link(scene, p, env, p["range_m"])
+        snr = budget.total
+        required, pd_at, d_req = self._detection(scene, p, snr, wanted)
         values = {
             "source_level_db": env["sl"],
             "directivity_index_db": env["di"],
@@ -1000,31 +526,13 @@ class SonarChain(Chain):
         if pd_at is not None:
             values["pd"] = pd_at
         if needs(wanted, "detection_range_m"):
+            def residual(r):
+                return self._link(scene, p, env, r)[0].total - required
+
             values["detection_range_m"] = decreasing_root_log(residual, *_RANGE_BRACKET_M).root
-        values.update({
-            "bandwidth_hz": env["bandwidth"],
-            # noise.hydrophone_voltage_v, written out: the level may leave its checked domain at extreme ranges
-            "signal_voltage_v": 10.0 ** ((extra["signal"] + m) / 20.0),
-        })
-        if extra["noise"] is not None:
-            values["noise_level_db"] = extra["noise"]
-            values["noise_voltage_v"] = 10.0 ** ((extra["noise"] + m) / 20.0)
-        if env["ambient_spectrum"] is not None:
-            values["noise_spectrum_level_db"] = env["ambient_spectrum"]
-        if active:
-            prf = max_prf_hz(p["range_m"], env["c"])
-            values.update(
-                target_strength_db=extra["ts"] + jnp.zeros_like(snr),
-                echo_level_db=extra["signal"],
-                processing_gain_db=env["pg"],
-                range_resolution_m=env["c"] / (2.0 * env["bandwidth"]),
-                cross_range_resolution_m=cross_range_resolution_m(p["range_m"], env["az_rad"]),
-                prf_hz=prf,
-                duty_cycle=duty_cycle(prf, env["tau"]),
-                max_pulse_length_s=max_pulse_length_s(p["max_duty_cycle"], prf),
-            )
-            if extra["reverb"] is not None:
-                values["reverberation_level_db"] = extra["reverb"]
+        values.update(self._level_values(p, env, extra))
+        if self.option(scene, "mode") == "active":
+            values.update(self._active_values(p, env, extra, snr))
         else:
             values["detection_index"] = d_req
         return Evaluation(budget, values)

@@ -1,5 +1,8 @@
-"""Ultrasound in air: transducer SPL, transmission loss, receiver voltage, pulse-echo ranging
-and the ``"ultrasonic"`` chain (:mod:`.chain`)."""
+"""Ultrasound in air: transducer and receiver levels (:mod:`.levels`) and the ``"ultrasonic"``
+chain (:mod:`.chain`)."""
 
-from diffsense.sensors.ultrasonic.chain import *  # noqa: F401,F403
-from diffsense.sensors.ultrasonic.chain import __all__  # noqa: F401
+from diffsense.sensors.ultrasonic import levels
+from diffsense.sensors.ultrasonic.chain import UltrasonicChain
+from diffsense.sensors.ultrasonic.levels import *  # noqa: F403 (the names listed in levels.__all__)
+
+__all__ = [*levels.__all__, "UltrasonicChain"]

@@ -1,16 +1,10 @@
-"""Ultrasound in air: transducer SPL, transmission loss, receiver voltage, pulse-echo ranging and
-the ``"ultrasonic"`` sensor chain.
+"""The ``"ultrasonic"`` chain: an ultrasonic beacon (one way) or pulse-echo ranging in air, from
+the transmitter's SPL to the receiver voltage, SNR, Pd and detection range.
 
-Levels in air are sound pressure levels (SPL), dB re 20 µPa. Transducer makers quote the
-transmitter's SPL at a reference distance (30 cm for the muRata MA40S4S) for a reference drive
-voltage, and the receiver's sensitivity in dB re 1 V/µbar (1 µbar = 0.1 Pa).
-
-Sources
--------
-- G. Brooker, *Introduction to Sensors for Ranging and Imaging* (SciTech, 2009): §13.20
-  (ultrasonic beacon, eqs (13.26)-(13.31)); §8.16.2 (ultrasound rejected for the ore pass:
-  beamwidth rule θ = 70 λ/d, absorption); §12.8 (target strength of a sphere, eq (12.56)).
-- ISO 9613-1:1993, atmospheric absorption (:func:`diffsense.physics.propagation.acoustic.air_absorption_db_per_m`).
+The level relations are in :mod:`.levels`; absorption and sound speed in air are ISO 9613-1
+(:func:`diffsense.physics.propagation.acoustic.air_absorption_db_per_m`) or given; the target
+strength of a sphere is book eq (12.56) (:mod:`diffsense.physics.targets`). Source: G. Brooker,
+*Introduction to Sensors for Ranging and Imaging* (SciTech, 2009), §13.20.
 """
 
 from __future__ import annotations
@@ -18,171 +12,37 @@ from __future__ import annotations
 from typing import Dict
 
 import jax.numpy as jnp
-import numpy as np
 
-from diffsense.physics import antennas, noise, targets
+from diffsense.detection.single_pulse import single_pulse_pd, single_pulse_required_snr_db
 from diffsense.errors import DomainError
-from diffsense.numerics.checks import check_range
+from diffsense.numerics.db import db10, db20, from_db20
+from diffsense.numerics.rootfind import decreasing_root_log
+from diffsense.physics import noise, targets, waveforms
+from diffsense.physics.constants import NOMINAL_AIR_SOUND_SPEED_M_S
+from diffsense.physics.propagation import acoustic
 from diffsense.sensors.chain import BudgetBuilder, Chain, Evaluation, Output, Param, collect, needs
 from diffsense.sensors.parts import scene_part
-from diffsense.detection.single_pulse import single_pulse_pd, single_pulse_required_snr_db
-from diffsense.physics.propagation import acoustic
-from diffsense.numerics.rootfind import decreasing_root_log
+from diffsense.sensors.ultrasonic.levels import SPL_TO_MICROBAR_DB, spl_at_reference_db
 
-__all__ = [
-    "AIR_REFERENCE_PRESSURE_PA",
-    "MICROBAR_PA",
-    "spl_at_reference_db",
-    "receiver_output_voltage_v",
-    "receiver_output_level_dbv",
-    "one_way_received_spl_db",
-    "pulse_echo_received_spl_db",
-    "max_wavelength_for_beamwidth_book_m",
-    "min_frequency_for_beamwidth_book_hz",
-    "UltrasonicChain",
-]
-
-AIR_REFERENCE_PRESSURE_PA = 20e-6
-"""Reference pressure of SPL in air, 20 µPa (book eq (13.26))."""
-
-MICROBAR_PA = 0.1
-"""1 µbar = 0.1 Pa (book §13.20)."""
-
-_LN10 = float(np.log(10.0))
-#: 20 log10(20 µPa / 1 µbar) = 20 log10(2e-4) = −73.98 dB (the book's "−74").
-_SPL_TO_MICROBAR_DB = 20.0 * float(np.log10(AIR_REFERENCE_PRESSURE_PA / MICROBAR_PA))
-
-
-def _db20(x):
-    return (20.0 / _LN10) * jnp.log(x)
-
-
-def spl_at_reference_db(reference_spl_db, drive_voltage_v, reference_drive_voltage_v):
-    """Transmitter SPL at its reference distance for a drive voltage ``L = L0 + 20 log10(V / V0)`` (dB re 20 µPa).
-
-    Pressure is proportional to drive voltage in a linear transducer, so SPL scales as the
-    square of V (book §13.20: MA40S4S 120 dB at 30 cm for 10 Vpp, driven at 20 Vpp → 126 dB).
-    V and V0 in the same convention (both peak-to-peak or both RMS). Exact while the transducer
-    stays linear (below its rated maximum drive).
-
-    Args:
-        reference_spl_db: L0, SPL at the reference distance for V0 (dB re 20 µPa), in [0, 250].
-        drive_voltage_v: drive voltage V (V), in (0, ∞).
-        reference_drive_voltage_v: V0 (V), in (0, ∞).
-    """
-    w = "spl_at_reference_db"
-    check_range("reference_spl_db", reference_spl_db, 0.0, 250.0, where=w)
-    check_range("drive_voltage_v", drive_voltage_v, 0.0, None, lo_open=True, where=w)
-    check_range("reference_drive_voltage_v", reference_drive_voltage_v, 0.0, None, lo_open=True, where=w)
-    return jnp.asarray(reference_spl_db) + _db20(jnp.asarray(drive_voltage_v) / jnp.asarray(reference_drive_voltage_v))
-
-
-def receiver_output_level_dbv(spl_db, sensitivity_db_v_per_ubar):
-    """Receiver output ``20 log10 V = L + M + 20 log10(20 µPa / 1 µbar)`` (dB re 1 V).
-
-    The SPL L (re 20 µPa) is converted to µbar (20 µPa = 2e-4 µbar, −73.98 dB) and multiplied
-    by the sensitivity M (dB re 1 V/µbar). Book §13.20: 102.4 − 63 − 74 → 18.6 mV. Exact.
-
-    Args:
-        spl_db: SPL at the receiver (dB re 20 µPa), in [-100, 250].
-        sensitivity_db_v_per_ubar: M (dB re 1 V/µbar), in [-200, 50].
-    """
-    w = "receiver_output_level_dbv"
-    check_range("spl_db", spl_db, -100.0, 250.0, where=w)
-    check_range("sensitivity_db_v_per_ubar", sensitivity_db_v_per_ubar, -200.0, 50.0, where=w)
-    return jnp.asarray(spl_db) + jnp.asarray(sensitivity_db_v_per_ubar) + _SPL_TO_MICROBAR_DB
-
-
-def receiver_output_voltage_v(spl_db, sensitivity_db_v_per_ubar):
-    """RMS receiver output voltage (V) for an SPL and a µbar sensitivity; see :func:`receiver_output_level_dbv`."""
-    return 10.0 ** (receiver_output_level_dbv(spl_db, sensitivity_db_v_per_ubar) / 20.0)
-
-
-def one_way_received_spl_db(source_spl_db, range_m, absorption_db_per_m, reference_range_m=0.3):
-    """SPL at a receiver ``L_r = L_p − [20 log10(R / R_ref) + α R]`` (dB re 20 µPa), book eqs (13.30)-(13.31).
-
-    Spherical spreading from the reference distance of the source level plus absorption over the
-    whole path (the book's form). 126 dB at 0.3 m, 3 m, 1.2 dB/m → 102.4 dB. Exact for spherical
-    spreading in a homogeneous medium in the far field.
-
-    Args:
-        source_spl_db: SPL at the reference distance (dB re 20 µPa), in [0, 250].
-        range_m: R (m), in (0, ∞).
-        absorption_db_per_m: α (dB/m), in [0, ∞).
-        reference_range_m: R_ref (m), in (0, ∞).
-    """
-    check_range("source_spl_db", source_spl_db, 0.0, 250.0, where="one_way_received_spl_db")
-    tl = acoustic.transmission_loss_db(range_m, absorption_db_per_m, "spherical", reference_range_m)
-    return jnp.asarray(source_spl_db) - tl
-
-
-def pulse_echo_received_spl_db(source_spl_db, range_m, absorption_db_per_m, target_strength_db, reference_range_m=0.3):
-    """Echo SPL back at a co-located receiver (dB re 20 µPa).
-
-    ``L_e = L_p − [20 log10(R/R_ref) + α R] + TS − [20 log10(R / 1 m) + α R]``: the incident
-    level at the target, plus the target strength TS (dB re 1 m: the echo level 1 m from the
-    target relative to the incident level, book eq (12.54)), spread back from 1 m to R.
-
-    Args:
-        source_spl_db: SPL at the reference distance (dB re 20 µPa), in [0, 250].
-        range_m: target range R (m), in (0, ∞).
-        absorption_db_per_m: α (dB/m), in [0, ∞).
-        target_strength_db: TS (dB re 1 m), in [-150, 60].
-        reference_range_m: R_ref (m), in (0, ∞).
-    """
-    check_range("target_strength_db", target_strength_db, -150.0, 60.0, where="pulse_echo_received_spl_db")
-    incident = one_way_received_spl_db(source_spl_db, range_m, absorption_db_per_m, reference_range_m)
-    back = acoustic.transmission_loss_db(range_m, absorption_db_per_m, "spherical", 1.0)
-    return incident + jnp.asarray(target_strength_db) - back
-
-
-def max_wavelength_for_beamwidth_book_m(diameter_m, beamwidth_deg):
-    """Longest wavelength giving a beamwidth with an aperture, by the book's rule ``λ = θ d / 70`` (m).
-
-    Inverse of :func:`diffsense.physics.antennas.beamwidth_book_deg` (θ_deg = 70 λ/d, a moderately
-    tapered circular aperture). Book §8.16.2: d = 1 m, θ = 1.1° → 0.016 m. Accuracy that of the
-    rule (the uniform circular aperture has 58.9 λ/d).
-
-    Args:
-        diameter_m: aperture diameter d (m), in (0, ∞).
-        beamwidth_deg: required 3 dB beamwidth θ (degrees), in (0, 180].
-    """
-    w = "max_wavelength_for_beamwidth_book_m"
-    check_range("diameter_m", diameter_m, 0.0, None, lo_open=True, where=w)
-    check_range("beamwidth_deg", beamwidth_deg, 0.0, 180.0, lo_open=True, where=w)
-    return jnp.asarray(beamwidth_deg) * jnp.asarray(diameter_m) / antennas.BOOK_CIRCULAR_BEAMWIDTH_DEG_FACTOR
-
-
-def min_frequency_for_beamwidth_book_hz(diameter_m, beamwidth_deg, sound_speed_m_s=340.0):
-    """Lowest frequency giving a beamwidth with an aperture ``f = 70 c / (θ d)`` (Hz).
-
-    Book §8.16.2: 1 m transducer, 1.1°, 340 m/s → 21.6 kHz.
-
-    Args:
-        diameter_m: aperture diameter d (m), in (0, ∞).
-        beamwidth_deg: 3 dB beamwidth θ (degrees), in (0, 180].
-        sound_speed_m_s: c (m/s), in (0, ∞).
-    """
-    check_range("sound_speed_m_s", sound_speed_m_s, 0.0, None, lo_open=True, where="min_frequency_for_beamwidth_book_hz")
-    return jnp.asarray(sound_speed_m_s) / max_wavelength_for_beamwidth_book_m(diameter_m, beamwidth_deg)
+__all__ = ["UltrasonicChain", "receiver_noise_voltage_v", "ambient_noise_voltage_v"]
 
 
 # ---------------------------------------------------------------------------------------------
-# Scene parts and detection helper
+# Scene parts
 # ---------------------------------------------------------------------------------------------
 
 
-@scene_part("receiver_noise")
-def receiver_noise_voltage_v(noise_density_v_rthz, bandwidth_hz):
-    """Preamplifier input noise voltage in the band e_n √B (V)."""
-    return noise.voltage_noise_rms_v(noise_density_v_rthz, bandwidth_hz)
+#: Preamplifier input noise voltage in the band e_n √B (V).
+receiver_noise_voltage_v = scene_part("receiver_noise")(noise.voltage_noise_rms_v)
 
 
 @scene_part("ambient_noise")
 def ambient_noise_voltage_v(spectrum_level_db, bandwidth_hz, sensitivity_db_v_per_ubar):
-    """Acoustic background noise in the band at the receiver output (V)."""
-    band_spl = spectrum_level_db + (10.0 / _LN10) * jnp.log(bandwidth_hz)
-    return 10.0 ** ((band_spl + sensitivity_db_v_per_ubar + _SPL_TO_MICROBAR_DB) / 20.0)
+    """Acoustic background noise in the band at the receiver output (V): the band SPL
+    N_f + 10 log10 B seen through the µbar sensitivity (unchecked form of
+    :func:`diffsense.sensors.ultrasonic.levels.receiver_output_voltage_v`)."""
+    band_spl = spectrum_level_db + db10(bandwidth_hz)
+    return from_db20(band_spl + sensitivity_db_v_per_ubar + SPL_TO_MICROBAR_DB)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -260,7 +120,8 @@ class UltrasonicChain(Chain):
             ps += [
                 Param("absorption_db_per_m", "dB/m", "absorption coefficient α (book §13.20: ≈1.2 dB/m at 40 kHz)",
                       default=1.2, lo=0.0, hi=100.0),
-                Param("sound_speed_m_s", "m/s", "speed of sound (book: 340 m/s)", default=340.0, lo=200.0, hi=400.0),
+                Param("sound_speed_m_s", "m/s", "speed of sound (book: 340 m/s)", default=NOMINAL_AIR_SOUND_SPEED_M_S,
+                      lo=200.0, hi=400.0),
             ]
         if self.option(scene, "mode") == "pulse_echo":
             if self.option(scene, "target") == "given":
@@ -352,10 +213,10 @@ class UltrasonicChain(Chain):
             b.add("absorption_from_target", -alpha * r)
         spl = b.build().total
         b.add("receive_sensitivity", p["receive_sensitivity_db"])
-        b.add("pressure_reference_20upa_to_1ubar", _SPL_TO_MICROBAR_DB + jnp.zeros_like(spl))
-        level_dbv = spl + p["receive_sensitivity_db"] + _SPL_TO_MICROBAR_DB
+        b.add("pressure_reference_20upa_to_1ubar", SPL_TO_MICROBAR_DB + jnp.zeros_like(spl))
+        level_dbv = spl + p["receive_sensitivity_db"] + SPL_TO_MICROBAR_DB
         if env["noise_v"] is not None:
-            b.add("noise_voltage", -_db20(env["noise_v"]))
+            b.add("noise_voltage", -db20(env["noise_v"]))
         return b.build(), {"tl": out_tl, "spl": spl, "dbv": level_dbv}
 
     def compute(self, scene, p, wanted=None) -> Evaluation:
@@ -373,12 +234,13 @@ class UltrasonicChain(Chain):
             "wavelength_m": env["c"] / p["freq_hz"],
             "received_spl_db": extra["spl"],
             "output_level_dbv": extra["dbv"],
-            "output_voltage_v": 10.0 ** (extra["dbv"] / 20.0),
+            "output_voltage_v": from_db20(extra["dbv"]),
             "time_of_flight_s": (2.0 if echo else 1.0) * p["range_m"] / env["c"],
         }
         if echo:
             values["target_strength_db"] = env["ts"] + jnp.zeros_like(extra["spl"])
-            values["range_resolution_m"] = env["c"] * p["pulse_width_s"] / 2.0
+            values["range_resolution_m"] = waveforms.range_resolution_pulse_m(p["pulse_width_s"],
+                                                                              propagation_speed_m_s=env["c"])
         if env["noise_v"] is not None:
             snr = budget.total
             swerling = self.option(scene, "swerling")

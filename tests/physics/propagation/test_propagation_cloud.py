@@ -18,6 +18,8 @@ import diffsense  # noqa: F401
 from diffsense.errors import DomainError
 from diffsense.physics.propagation import cloud_attenuation_coefficient, cloud_attenuation_db_per_km
 
+from helpers.function_checks import grad_and_central_difference, with_arg
+
 # (A_c at 29 GHz, A_c at 14.25 GHz) at the same site and exceedance probability
 VALEX_PAIRS = [(1.77246907, 0.45516982), (1.02564344, 0.2633851), (2.43180268, 0.62448661),
                (4.70577375, 1.20844208), (3.00280519, 0.77111998), (2.669786, 0.68560069)]
@@ -71,15 +73,8 @@ def test_jit_vmap_broadcast():
 
 @pytest.mark.parametrize("argnum, x0, h", [(0, 35e9, 1e3), (1, 280.0, 1e-4)])
 def test_gradient_matches_central_difference(argnum, x0, h):
-    args = [35e9, 280.0]
-
-    def fun(x):
-        a = list(args)
-        a[argnum] = x
-        return cloud_attenuation_coefficient(*a)
-
-    g = float(jax.grad(fun)(x0))
-    fd = float((fun(x0 + h) - fun(x0 - h)) / (2 * h))
+    args = (35e9, 280.0)
+    g, fd = grad_and_central_difference(lambda x: cloud_attenuation_coefficient(*with_arg(args, argnum, x)), x0, h)
     assert g == pytest.approx(fd, rel=1e-6)
 
 

@@ -26,6 +26,8 @@ from diffsense.physics.propagation import (
     size_distribution_exponent,
 )
 
+from helpers.function_checks import grad_and_central_difference
+
 
 def test_ore_pass_mass_loading_book_8_16():
     # book: M = 37.3 * 20^-1.07 = 1.5 g/m^3 (rounded to 2 digits -> 3.5 % tolerance)
@@ -117,8 +119,7 @@ def test_jit_vmap_broadcast():
     (lambda lam: laser_extinction_db_per_km(800.0, lam), 905e-9, 1e-13),
 ])
 def test_gradient_matches_central_difference(fun, x0, h):
-    g = float(jax.grad(fun)(x0))
-    fd = float((fun(x0 + h) - fun(x0 - h)) / (2 * h))
+    g, fd = grad_and_central_difference(fun, x0, h)
     assert g == pytest.approx(fd, rel=1e-6)
 
 

@@ -21,6 +21,8 @@ from diffsense.physics.propagation import (
     water_vapour_attenuation_db_per_km,
 )
 
+from helpers.function_checks import grad_and_central_difference, with_arg
+
 E_HPA = 7.5 * 288.15 / 216.7
 P_TOTAL = 1013.25 + E_HPA
 
@@ -95,21 +97,10 @@ def test_vmap_and_broadcast():
     assert grid.shape == (3, 2)
 
 
-def _central_fd(fun, x, h):
-    return (fun(x + h) - fun(x - h)) / (2 * h)
-
-
 @pytest.mark.parametrize("argnum, x0, h", [(0, 35e9, 1e3), (1, 900.0, 1e-3), (2, 290.0, 1e-4), (3, 10.0, 1e-5)])
 def test_gradient_matches_central_difference(argnum, x0, h):
-    args = [35e9, 900.0, 290.0, 10.0]
-
-    def fun(x):
-        a = list(args)
-        a[argnum] = x
-        return gas_attenuation_db_per_km(*a)
-
-    g = float(jax.grad(fun)(x0))
-    fd = float(_central_fd(fun, x0, h))
+    args = (35e9, 900.0, 290.0, 10.0)
+    g, fd = grad_and_central_difference(lambda x: gas_attenuation_db_per_km(*with_arg(args, argnum, x)), x0, h)
     assert g == pytest.approx(fd, rel=1e-6, abs=1e-14)
 
 

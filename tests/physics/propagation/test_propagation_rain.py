@@ -15,6 +15,8 @@ import diffsense  # noqa: F401
 from diffsense.errors import DomainError
 from diffsense.physics.propagation import rain_attenuation_db_per_km, rain_coefficients
 
+from helpers.function_checks import grad_and_central_difference, with_arg
+
 VALEX = [  # el (deg), f (GHz), R (mm/h), tau (deg), k, alpha, gamma (dB/km)
     (31.07699124, 14.25, 26.48052, 0, 0.03975488, 1.12418043, 1.58130839),
     (40.232036, 14.25, 33.936232, 0, 0.04007624, 1.11804138, 2.06173213),
@@ -71,22 +73,13 @@ def test_jit_vmap_broadcast():
 
 @pytest.mark.parametrize("argnum, x0, h", [(0, 35e9, 1e3), (1, 25.0, 1e-5), (3, 30.0, 1e-5)])
 def test_gradient_matches_central_difference(argnum, x0, h):
-    args = [35e9, 25.0, "vertical", 30.0]
-
-    def fun(x):
-        a = list(args)
-        a[argnum] = x
-        return rain_attenuation_db_per_km(*a)
-
-    g = float(jax.grad(fun)(x0))
-    fd = float((fun(x0 + h) - fun(x0 - h)) / (2 * h))
+    args = (35e9, 25.0, "vertical", 30.0)
+    g, fd = grad_and_central_difference(lambda x: rain_attenuation_db_per_km(*with_arg(args, argnum, x)), x0, h)
     assert g == pytest.approx(fd, rel=1e-6)
 
 
 def test_gradient_in_tilt_angle_matches_central_difference():
-    fun = lambda tau: rain_attenuation_db_per_km(35e9, 25.0, tau, 10.0)  # noqa: E731
-    g = float(jax.grad(fun)(30.0))
-    fd = float((fun(30.0 + 1e-5) - fun(30.0 - 1e-5)) / 2e-5)
+    g, fd = grad_and_central_difference(lambda tau: rain_attenuation_db_per_km(35e9, 25.0, tau, 10.0), 30.0, 1e-5)
     assert g == pytest.approx(fd, rel=1e-6)
 
 

@@ -1,4 +1,5 @@
-"""Infrared physics and the IRST chain (diffsense.sensors.infrared).
+"""Infrared physics and the IRST chain (diffsense.sensors.infrared), and the photon-unit band
+radiances of diffsense.physics.radiance.
 
 References used by the assertions:
 - Planck's law in photon units integrated by mpmath.quad (30 digits), its temperature
@@ -24,12 +25,10 @@ import math
 import jax
 import mpmath as mp
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 import diffsense  # noqa: F401
 from diffsense.sensors import infrared as ir
-from diffsense.physics import noise
+from diffsense.physics import radiance
 from diffsense.errors import DomainError
 from diffsense.scene import complete_parameters, evaluate
 from diffsense.sensors.parts import traced_parts
@@ -37,15 +36,9 @@ from diffsense.physics.constants import BOLTZMANN_J_K, PLANCK_J_S, SPEED_OF_LIGH
 from diffsense.scene import Scene
 
 from helpers.chain_checks import WeightedOutputs
-from helpers.function_checks import (
-    assert_gradient_finite,
-    assert_gradient_matches_fd,
-    assert_jit_matches_eager,
-    assert_out_of_domain_raises,
-    assert_vmap_matches_loop,
-)
+from helpers.function_suite import function_suite
 
-mp.mp.dps = 30
+MPMATH_DPS = 30  # working precision of this module's tests (set per test by tests/conftest.py)
 H, C, K = mp.mpf(PLANCK_J_S), mp.mpf(SPEED_OF_LIGHT_M_S), mp.mpf(BOLTZMANN_J_K)
 
 
@@ -64,8 +57,8 @@ def mp_radiance(a, b, t):
 
 
 SPECS = [
-    ("photon_radiance", ir.band_photon_radiance, [(1e-7, 5e-6, 1), (6e-6, 1e-3, 1), (50.0, 6000.0, 1)], [(2, 0.0), (0, 0.0)]),
-    ("photon_radiance_dT", ir.band_photon_radiance_temperature_derivative, [(1e-7, 5e-6, 1), (6e-6, 1e-3, 1), (50.0, 6000.0, 1)],
+    ("photon_radiance", radiance.band_photon_radiance, [(1e-7, 5e-6, 1), (6e-6, 1e-3, 1), (50.0, 6000.0, 1)], [(2, 0.0), (0, 0.0)]),
+    ("photon_radiance_dT", radiance.band_photon_radiance_temperature_derivative, [(1e-7, 5e-6, 1), (6e-6, 1e-3, 1), (50.0, 6000.0, 1)],
      [(1, 20.0)]),
     ("background_photon_irradiance", ir.background_photon_irradiance,
      [(1e-6, 5e-6, 1), (6e-6, 2e-5, 1), (100.0, 400.0, 1), (0.05, 1.5707, 0)], [(3, 2.0), (3, 0.0)]),
@@ -83,48 +76,22 @@ SPECS = [
      [(3e-6, 3.5e-6, 0), (4e-6, 5e-6, 0), (200.0, 350.0, 1), (0.7, 6.0, 1), (1e-10, 1e-8, 1), (1.0, 1e3, 1), (0.3, 1.0, 0), (0.3, 1.0, 0)],
      [(3, 0.2), (6, 0.0)]),
 ]
-IDS = [s[0] for s in SPECS]
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_jit_matches_eager(spec):
-    assert_jit_matches_eager(spec, rel=1e-13)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_vmap_matches_loop(spec):
-    assert_vmap_matches_loop(spec, rtol=1e-13)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_gradient_matches_central_difference(spec):
-    assert_gradient_matches_fd(spec, value_floor=0.0)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-@settings(max_examples=30, deadline=None)
-@given(data=st.data())
-def test_gradient_finite_over_domain(spec, data):
-    u = [data.draw(st.floats(0.0, 1.0)) for _ in spec[2]]
-    term_scale = _contrast_terms if spec[0] == "contrast_intensity" else None
-    assert_gradient_finite(spec, u, value_floor=0.0, term_scale=term_scale)
 
 
 def _contrast_terms(args):
     """Size A·max(ε_t L_t, ε_b L_b) of the two intensities whose difference is the contrast."""
     area, e_t, t_t, e_b, t_b, lo, hi = args
-    return area * max(e_t * float(noise.band_radiance_w_m2_sr(lo, hi, t_t)),
-                      e_b * float(noise.band_radiance_w_m2_sr(lo, hi, t_b)))
+    return area * max(e_t * float(radiance.band_radiance_w_m2_sr(lo, hi, t_t)),
+                      e_b * float(radiance.band_radiance_w_m2_sr(lo, hi, t_b)))
 
 
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_out_of_domain_raises(spec):
-    assert_out_of_domain_raises(spec)
+globals().update(function_suite(SPECS, jit_rel=1e-13, vmap_rtol=1e-13, value_floor=0.0,
+                                term_scales={"contrast_intensity": _contrast_terms}))
 
 
 def test_reversed_band_and_bad_detector_raise():
     with pytest.raises(DomainError):
-        ir.band_photon_radiance(5e-6, 3e-6, 300.0)
+        radiance.band_photon_radiance(5e-6, 3e-6, 300.0)
     with pytest.raises(DomainError):
         ir.blip_detectivity_jones(1e-5, 300.0, detector="bolometer")
 
@@ -137,15 +104,15 @@ BANDS = [(3e-6, 5e-6, 300.0), (8e-6, 12e-6, 300.0), (1e-9, 1e-5, 300.0), (1e-7, 
 
 @pytest.mark.parametrize("lo,hi,t", BANDS)
 def test_photon_radiance_and_derivative_vs_mpmath(lo, hi, t):
-    assert float(ir.band_photon_radiance(lo, hi, t)) == pytest.approx(float(mp_photon_radiance(lo, hi, t)), rel=1e-13)
+    assert float(radiance.band_photon_radiance(lo, hi, t)) == pytest.approx(float(mp_photon_radiance(lo, hi, t)), rel=1e-13)
     ref = mp.diff(lambda tt: mp_photon_radiance(lo, hi, tt), mp.mpf(t))
-    assert float(ir.band_photon_radiance_temperature_derivative(lo, hi, t)) == pytest.approx(float(ref), rel=1e-12)
+    assert float(radiance.band_photon_radiance_temperature_derivative(lo, hi, t)) == pytest.approx(float(ref), rel=1e-12)
 
 
 def test_photon_stefan_boltzmann_law():
     t = 1000.0
     closed = 4 * mp.pi * mp.zeta(3) * K**3 * mp.mpf(t) ** 3 / (H**3 * C**2)
-    got = math.pi * float(ir.band_photon_radiance(1e-9, 10.0, t))  # tails beyond the band < 1e-12
+    got = math.pi * float(radiance.band_photon_radiance(1e-9, 10.0, t))  # tails beyond the band < 1e-12
     assert got == pytest.approx(float(closed), rel=1e-11)
     assert float(closed) / t**3 == pytest.approx(1.52e15, rel=3e-3)  # Dereniak & Boreman's 1.52e15
 
@@ -182,7 +149,7 @@ def test_netd_flir_tau_published_conversion():
     # NETD 50 mK at f/1 <-> ΔM < 0.14 W/m² (FLIR, 7.5-13.5 µm, 300 K): build a detector whose NEP
     # equals the focal-plane power of ΔM = 0.14 W/m² at f/1 and check NETD; then F² scaling.
     lo, hi, t = 7.5e-6, 13.5e-6, 300.0
-    dldt = float(noise.band_radiance_temperature_derivative(lo, hi, t))
+    dldt = float(radiance.band_radiance_temperature_derivative(lo, hi, t))
     ad, df, d_ap, tau_o = (17e-6) ** 2, 30.0, 0.01, 1.0
     a_o = math.pi * d_ap**2 / 4
     for fno in (1.0, 2.0):

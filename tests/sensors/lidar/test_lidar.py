@@ -34,19 +34,13 @@ from diffsense.detection.matched_filter import matched_filter_efficiency
 from diffsense.sensors import lidar as ld
 from diffsense.scene import complete_parameters, evaluator, parameter_table
 from diffsense.physics.constants import BOLTZMANN_J_K, ELEMENTARY_CHARGE_C, PLANCK_J_S, SPEED_OF_LIGHT_M_S
-from diffsense.physics.noise import planck_spectral_radiance
+from diffsense.physics.radiance import planck_spectral_radiance
 from diffsense.scene import Scene
 from diffsense.physics.targets import laser_cross_section_lambertian_m2
 
-from helpers.function_checks import (
-    assert_gradient_finite,
-    assert_gradient_matches_fd,
-    assert_jit_matches_eager,
-    assert_out_of_domain_raises,
-    assert_vmap_matches_loop,
-)
+from helpers.function_suite import function_suite
 
-mp.mp.dps = 30
+MPMATH_DPS = 30  # working precision of this module's tests (set per test by tests/conftest.py)
 H = mp.mpf(PLANCK_J_S)
 C = mp.mpf(SPEED_OF_LIGHT_M_S)
 Q = mp.mpf(ELEMENTARY_CHARGE_C)
@@ -130,34 +124,7 @@ SPECS = [
     ("threshold_required", ld.threshold_required_snr_db,
      [(0.5, 0.999, 0), (1e-12, 0.1, 1), (1.0, 100.0, 1), (0.05, 1.0, 0)], [(0, 0.4), (3, 1.5)]),
 ]
-SPEC_IDS = [s[0] for s in SPECS]
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=SPEC_IDS)
-def test_jit_matches_eager(spec):
-    assert_jit_matches_eager(spec, rel=1e-12, atol=1e-300)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=SPEC_IDS)
-def test_vmap_matches_loop(spec):
-    assert_vmap_matches_loop(spec, rtol=1e-12)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=SPEC_IDS)
-def test_gradient_matches_central_difference(spec):
-    assert_gradient_matches_fd(spec, value_floor=1e-300)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=SPEC_IDS)
-@settings(max_examples=30, deadline=None)
-@given(data=st.data())
-def test_gradient_finite_over_domain(spec, data):
-    assert_gradient_finite(spec, [data.draw(st.floats(0.0, 1.0)) for _ in spec[2]], value_floor=1e-300)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=SPEC_IDS)
-def test_out_of_domain_raises(spec):
-    assert_out_of_domain_raises(spec)
+globals().update(function_suite(SPECS, jit_rel=1e-12, jit_atol=1e-300, vmap_rtol=1e-12, value_floor=1e-300))
 
 
 # --------------------------------------------------------------------------------------

@@ -29,7 +29,7 @@ from diffsense.physics.constants import BOLTZMANN_J_K, ELEMENTARY_CHARGE_C, PLAN
 from diffsense.scene import Scene
 from diffsense.design.units import registry
 
-mp.mp.dps = 30
+MPMATH_DPS = 30  # working precision of this module's tests (set per test by tests/conftest.py)
 Q = mp.mpf(ELEMENTARY_CHARGE_C)
 KB = mp.mpf(BOLTZMANN_J_K)
 HC = mp.mpf(PLANCK_J_S) * mp.mpf(SPEED_OF_LIGHT_M_S)

@@ -21,6 +21,7 @@ from diffsense.scene import Scene
 import diffsense.detection as det
 from diffsense.scene import complete_parameters, evaluator
 from diffsense.physics.constants import SPEED_OF_LIGHT_M_S
+from diffsense.physics import waveforms as wf
 from diffsense.sensors.radar import equation as eq
 from diffsense.physics.targets import extended_target_rcs_m2
 
@@ -142,7 +143,7 @@ def test_prf_500_khz_and_update_rate_31_25_khz_book_8_16_14():
     ev = run(BOOK_DETECTION, pd=0.95, pfa=1e-12, **BOOK_ANTENNA)
     assert float(ev["update_rate_hz"]) == pytest.approx(31250.0, rel=1e-14)
     # c/(2 Rmax) = 500 kHz with the book's c = 3e8; exact c: 0.07 % less
-    assert abs(float(eq.max_prf_hz(300.0)) / 500e3 - 1) < 1e-3
+    assert abs(float(wf.max_prf_hz(300.0)) / 500e3 - 1) < 1e-3
     assert abs(float(ev["unambiguous_range_m"]) / 300.0 - 1) < 1e-3
 
 

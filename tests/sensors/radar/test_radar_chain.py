@@ -24,7 +24,7 @@ from diffsense.sensors.parts import traced_parts
 from diffsense.physics.constants import SPEED_OF_LIGHT_M_S
 from diffsense.scene import Scene
 
-mp.mp.dps = 40
+MPMATH_DPS = 40  # working precision of this module's tests (set per test by tests/conftest.py)
 
 # --- scene A: antenna given, per-pulse requirement given, ideal matched filter ---------------
 SCENE_A = Scene("radar", [], {"antenna": "specified", "detectability": "given", "matched_filter": "matched"})

@@ -30,7 +30,7 @@ from diffsense.sensors.parts import traced_parts
 from diffsense.physics.constants import SPEED_OF_LIGHT_M_S
 from diffsense.scene import Scene
 
-mp.mp.dps = 40
+MPMATH_DPS = 40  # working precision of this module's tests (set per test by tests/conftest.py)
 
 OPTS = {"antenna": "circular_aperture", "detectability": "given", "matched_filter": "matched"}
 TRACK = Scene("radar", ["tracking"], OPTS)

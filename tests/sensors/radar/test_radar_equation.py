@@ -18,10 +18,11 @@ import diffsense  # noqa: F401  (float64)
 from diffsense.physics import noise, propagation
 from diffsense.errors import DomainError
 from diffsense.physics.constants import BOLTZMANN_J_K, SPEED_OF_LIGHT_M_S
+from diffsense.physics import waveforms as wf
 from diffsense.sensors.radar import equation as eq
 from diffsense.sensors.radar import snr_db
 
-mp.mp.dps = 40
+MPMATH_DPS = 40  # working precision of this module's tests (set per test by tests/conftest.py)
 
 
 def mp_snr_db(r, pt, tau, lam, g_db, rcs, ts, loss_db):
@@ -160,8 +161,8 @@ def test_received_power_ore_pass_book_8_16_11():
 
 
 def test_pulse_compression_gain_closed_form():
-    assert abs(float(eq.pulse_compression_gain_db(100e6, 10e-6)) - 30.0) < 1e-12
-    assert abs(float(eq.pulse_compression_gain_db(1e6, 1e-6))) < 1e-12
+    assert abs(float(wf.pulse_compression_gain_db(100e6, 10e-6)) - 30.0) < 1e-12
+    assert abs(float(wf.pulse_compression_gain_db(1e6, 1e-6))) < 1e-12
 
 
 def test_search_radar_equation_published_example():
@@ -318,12 +319,12 @@ def test_if_gain_book_8_16_12():
 
 def test_timing_relations_book_8_16_and_9_9():
     # PRF c/(2 Rmax) = 500 kHz for 300 m (book c = 3e8; exact c is 0.07 % lower)
-    assert abs(float(eq.max_prf_hz(300.0)) / 500e3 - 1) < 1e-3
-    assert abs(float(eq.max_prf_hz(300.0, 3e8)) - 500e3) < 1e-6
-    assert float(eq.update_rate_hz(500e3, 16.0)) == pytest.approx(31250.0, rel=1e-15)
-    assert float(eq.hits_per_scan(1.25, 360.0, 6.0)) == pytest.approx(12.5, rel=1e-15)  # book 9.9.1.1
-    assert abs(float(eq.range_resolution_m(13.3e-9)) - 2.0) < 0.01  # book 8.16.3: 2 m <-> 13.3 ns
-    assert abs(float(eq.unambiguous_range_m(500e3, 3e8)) - 300.0) < 1e-9
+    assert abs(float(wf.max_prf_hz(300.0)) / 500e3 - 1) < 1e-3
+    assert abs(float(wf.max_prf_hz(300.0, 3e8)) - 500e3) < 1e-6
+    assert float(wf.update_rate_hz(500e3, 16.0)) == pytest.approx(31250.0, rel=1e-15)
+    assert float(wf.hits_per_scan(1.25, 360.0, 6.0)) == pytest.approx(12.5, rel=1e-15)  # book 9.9.1.1
+    assert abs(float(wf.range_resolution_pulse_m(13.3e-9)) - 2.0) < 0.01  # book 8.16.3: 2 m <-> 13.3 ns
+    assert abs(float(wf.unambiguous_range_m(500e3, 3e8)) - 300.0) < 1e-9
 
 
 @pytest.mark.parametrize(
@@ -335,8 +336,8 @@ def test_timing_relations_book_8_16_and_9_9():
         lambda: eq.sea_grazing_angle_rad(5.0, 10.0),
         lambda: eq.wall_clutter_rcs_m2(6.0, 2.0, 30.0),
         lambda: eq.wall_illumination_factor(300.0, 6.0, 0.0),
-        lambda: eq.pulse_compression_gain_db(0.0, 1e-6),
-        lambda: eq.update_rate_hz(1e3, 0.5),
+        lambda: wf.pulse_compression_gain_db(0.0, 1e-6),
+        lambda: wf.update_rate_hz(1e3, 0.5),
         lambda: eq.detection_range_m(200.0, 10.0, -0.1),
         lambda: eq.rms_wave_height_m(9.0),
     ],
@@ -350,3 +351,11 @@ def test_exact_constants_are_used():
     # 10 log10(k) with the exact SI k (the book's 1.38e-23 differs by 0.0021 dB)
     base = float(snr_db(1.0, 1.0, 1.0, 1.0, 0.0))
     assert abs(base - (-30 * math.log10(4 * math.pi) - 10 * math.log10(BOLTZMANN_J_K * 290.0))) < 1e-12
+
+
+def test_waveform_relations_live_in_waveforms_only():
+    # one home per relation: the radar equation module keeps no copy of the waveform relations
+    removed = ("range_resolution_m", "unambiguous_range_m", "max_prf_hz", "update_rate_hz", "hits_per_scan",
+               "pulse_compression_gain_db")
+    assert not any(hasattr(eq, name) for name in removed)
+    assert all(callable(getattr(wf, name)) for name in removed[1:] + ("range_resolution_pulse_m",))

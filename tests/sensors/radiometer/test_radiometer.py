@@ -18,24 +18,17 @@ import math
 
 import mpmath as mp
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 import diffsense  # noqa: F401  (float64)
 from diffsense.physics import noise
+from diffsense.physics.radiance import planck_brightness_temperature_k
 from diffsense.sensors import radiometer as rm
 from diffsense.errors import DomainError
 from diffsense.physics.constants import BOLTZMANN_J_K, PLANCK_J_S
 
-from helpers.function_checks import (
-    assert_gradient_finite,
-    assert_gradient_matches_fd,
-    assert_jit_matches_eager,
-    assert_out_of_domain_raises,
-    assert_vmap_matches_loop,
-)
+from helpers.function_suite import function_suite
 
-mp.mp.dps = 30
+MPMATH_DPS = 30  # working precision of this module's tests (set per test by tests/conftest.py)
 HF_K = mp.mpf(PLANCK_J_S) / mp.mpf(BOLTZMANN_J_K)
 
 
@@ -47,7 +40,7 @@ def mp_planck(t, f):
 # (name, fn, [(lo, hi, log)], [(arg index, bad value)])
 SPECS = [
     ("opacity", rm.opacity_from_attenuation_db, [(0.0, 100.0, 0)], [(0, -1.0)]),
-    ("planck_brightness", rm.planck_brightness_temperature_k, [(1.0, 1000.0, 1), (1e9, 1e12, 1)], [(0, 0.0), (1, -1.0)]),
+    ("planck_brightness", planck_brightness_temperature_k, [(1.0, 1000.0, 1), (1e9, 1e12, 1)], [(0, 0.0), (1, -1.0)]),
     ("slant_opacity", rm.slant_opacity_np, [(0.0, 5.0, 0), (5.0, 90.0, 0)], [(1, 2.0), (0, -0.1)]),
     ("through_layer", rm.brightness_through_layer_k, [(0.0, 300.0, 0), (0.0, 10.0, 0), (0.0, 300.0, 0)], [(1, -0.5), (0, -1.0)]),
     ("sky_brightness", rm.sky_brightness_temperature_k, [(0.0, 5.0, 0), (200.0, 300.0, 0), (1e9, 1e12, 1), (1.0, 5.0, 0)],
@@ -64,37 +57,9 @@ SPECS = [
     ("gaussian_pd", rm.gaussian_detection_probability, [(0.0, 12.0, 0), (1e-12, 0.1, 1)], [(1, 0.9), (0, -1.0)]),
     ("gaussian_deflection", rm.gaussian_required_deflection, [(0.5, 0.999, 0), (1e-12, 0.1, 1)], [(0, 1.0), (1, 0.7)]),
 ]
-IDS = [s[0] for s in SPECS]
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_jit_matches_eager(spec):
-    assert_jit_matches_eager(spec, rel=1e-13, atol=1e-14)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_vmap_matches_loop(spec):
-    assert_vmap_matches_loop(spec, rtol=1e-13)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_gradient_matches_central_difference(spec):
-    assert_gradient_matches_fd(spec, value_floor=1.0)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-@settings(max_examples=30, deadline=None)
-@given(data=st.data())
-def test_gradient_finite_over_domain(spec, data):
-    # the contrast is a difference of apparent temperatures: its differences round at their size
-    term_scale = (lambda a: max(a[1], a[3], a[4])) if spec[0] == "contrast" else None
-    u = [data.draw(st.floats(0.0, 1.0)) for _ in spec[2]]
-    assert_gradient_finite(spec, u, value_floor=1.0, term_scale=term_scale)
-
-
-@pytest.mark.parametrize("spec", SPECS, ids=IDS)
-def test_out_of_domain_raises(spec):
-    assert_out_of_domain_raises(spec)
+# the contrast is a difference of apparent temperatures: its differences round at their size
+globals().update(function_suite(SPECS, jit_rel=1e-13, jit_atol=1e-14, vmap_rtol=1e-13, value_floor=1.0,
+                                term_scales={"contrast": lambda a: max(a[1], a[3], a[4])}))
 
 
 def test_required_deflection_rejects_pd_below_pfa():
@@ -107,7 +72,7 @@ def test_required_deflection_rejects_pd_below_pfa():
 
 @pytest.mark.parametrize("t,f", [(290.0, 94e9), (2.72548, 94e9), (50.0, 35e9), (300.0, 1e12), (1.0, 1e9)])
 def test_planck_brightness_vs_mpmath(t, f):
-    got = float(rm.planck_brightness_temperature_k(t, f))
+    got = float(planck_brightness_temperature_k(t, f))
     assert got == pytest.approx(float(mp_planck(t, f)), rel=1e-14)
 
 
@@ -116,7 +81,7 @@ def test_planck_brightness_high_temperature_series():
     t, f = 290.0, 94e9
     t0 = float(HF_K) * f
     series = t - t0 / 2 + t0**2 / (12 * t)
-    assert float(rm.planck_brightness_temperature_k(t, f)) == pytest.approx(series, abs=1e-5)
+    assert float(planck_brightness_temperature_k(t, f)) == pytest.approx(series, abs=1e-5)
     assert t0 == pytest.approx(4.5114, rel=1e-4)  # hf/k at 94 GHz
 
 

@@ -35,7 +35,7 @@ from diffsense.physics.propagation import (
 )
 from diffsense.scene import Scene
 
-mp.mp.dps = 30
+MPMATH_DPS = 30  # working precision of this module's tests (set per test by tests/conftest.py)
 HF_K = mp.mpf(PLANCK_J_S) / mp.mpf(BOLTZMANN_J_K)
 
 PLAIN = Scene("radiometer")

@@ -1,5 +1,6 @@
 """Sonar relations (diffsense.sensors.sonar): source level, sonar equations, detection threshold,
-side-scan geometry.
+and the side-scan geometry through the waveform relations (diffsense.physics.waveforms) at the
+speed of sound.
 
 References used by the assertions:
 - Brooker, *Introduction to Sensors for Ranging and Imaging*, §12.7-12.8 (side-scan sonar with the
@@ -17,18 +18,17 @@ References used by the assertions:
 import math
 
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
 from scipy import stats
 
 import diffsense  # noqa: F401  (float64)
-from diffsense.physics import noise
+from diffsense.physics import sea_noise
+from diffsense.physics import waveforms as wf
 from diffsense.sensors import sonar
 from diffsense.errors import DomainError
 from diffsense.scene import evaluate
 from diffsense.scene import Scene
 
-from helpers.function_checks import assert_argument_case, assert_argument_gradient_finite
+from helpers.function_suite import argument_suite
 
 # -------------------------------------------------------------------------------------------
 # Book values (§12.8)
@@ -100,7 +100,7 @@ def test_equivalent_pressure_level_inverts_hydrophone_voltage_book_12_65():
     assert float(sonar.equivalent_pressure_level_db(320e-9, -180.0)) == pytest.approx(50.0, abs=0.15)
     assert float(sonar.equivalent_pressure_level_db(79e-9, -180.0)) == pytest.approx(38.0, abs=0.1)
     for level in (-20.0, 38.0, 150.0):
-        v = noise.hydrophone_voltage_v(level, -180.0)
+        v = sea_noise.hydrophone_voltage_v(level, -180.0)
         assert float(sonar.equivalent_pressure_level_db(v, -180.0)) == pytest.approx(level, abs=1e-10)
 
 
@@ -114,19 +114,19 @@ def test_echo_level_sphere_book_12_58():
 
 def test_side_scan_resolutions_and_timing_book_12_37_to_12_41():
     # the book prints two decimals (1522/30000 = 0.0507)
-    assert float(sonar.chirp_range_resolution_m(15e3, 1522.0)) == pytest.approx(0.05, abs=0.005)
-    assert float(sonar.pulse_range_resolution_m(333e-6, 1522.0)) == pytest.approx(0.25, abs=0.005)
-    assert float(sonar.cross_range_resolution_m(500.0, 1.5 * math.pi / 180)) == pytest.approx(13.1, abs=0.05)
-    prf = sonar.max_prf_hz(500.0, 1522.0)
+    assert float(wf.range_resolution_bandwidth_m(15e3, 1522.0)) == pytest.approx(0.05, abs=0.005)
+    assert float(wf.range_resolution_pulse_m(333e-6, 1522.0)) == pytest.approx(0.25, abs=0.005)
+    assert float(wf.real_aperture_cross_range_m(500.0, 1.5 * math.pi / 180)) == pytest.approx(13.1, abs=0.05)
+    prf = wf.max_prf_hz(500.0, 1522.0)
     assert float(prf) == pytest.approx(1.52, abs=0.005)
-    assert 100 * float(sonar.duty_cycle(1.52, 333e-6)) == pytest.approx(0.05, abs=0.005)  # printed "0.05 %"
+    assert 100 * float(wf.duty_cycle(1.52, 333e-6)) == pytest.approx(0.05, abs=0.005)  # printed "0.05 %"
     # τ_pc = 5 / (100 × 1.52) = 32.9 ms (the book uses the rounded 1.52 Hz)
     assert float(sonar.max_pulse_length_s(0.05, 1.52)) == pytest.approx(32.9e-3, abs=0.05e-3)
 
 
 def test_pulse_compression_gain_closed_form():
-    assert float(sonar.pulse_compression_gain_db(15e3, 32.9e-3)) == pytest.approx(10 * math.log10(15e3 * 32.9e-3), abs=1e-12)
-    assert float(sonar.pulse_compression_gain_db(1 / 333e-6, 333e-6)) == pytest.approx(0.0, abs=1e-12)
+    assert float(wf.pulse_compression_gain_db(15e3, 32.9e-3)) == pytest.approx(10 * math.log10(15e3 * 32.9e-3), abs=1e-12)
+    assert float(wf.pulse_compression_gain_db(1 / 333e-6, 333e-6)) == pytest.approx(0.0, abs=1e-12)
 
 
 # -------------------------------------------------------------------------------------------
@@ -268,28 +268,17 @@ _CASES = {
     "pd_from_detection_index": (sonar.pd_from_detection_index, (20.0, 1e-6), 0, (0.01, 200.0)),
     "detection_threshold_known_signal_db": (sonar.detection_threshold_known_signal_db, (20.0, 0.01), 1, (1e-6, 100.0)),
     "detection_threshold_energy_db": (sonar.detection_threshold_energy_db, (20.0, 100.0, 1.0), 1, (1e-3, 1e6)),
-    "pulse_range_resolution_m": (sonar.pulse_range_resolution_m, (333e-6, 1522.0), 0, (1e-7, 10.0)),
-    "chirp_range_resolution_m": (sonar.chirp_range_resolution_m, (15e3, 1522.0), 0, (1.0, 1e6)),
-    "cross_range_resolution_m": (sonar.cross_range_resolution_m, (500.0, 0.026), 1, (1e-4, 3.0)),
-    "max_prf_hz": (sonar.max_prf_hz, (500.0, 1522.0), 0, (0.1, 1e6)),
-    "duty_cycle": (sonar.duty_cycle, (1.52, 333e-6), 0, (1e-3, 1e3)),
+    "range_resolution_pulse_m": (wf.range_resolution_pulse_m, (333e-6, 1522.0), 0, (1e-7, 10.0)),
+    "range_resolution_bandwidth_m": (wf.range_resolution_bandwidth_m, (15e3, 1522.0), 0, (1.0, 1e6)),
+    "real_aperture_cross_range_m": (wf.real_aperture_cross_range_m, (500.0, 0.026), 1, (1e-4, 3.0)),
+    "max_prf_hz": (wf.max_prf_hz, (500.0, 1522.0), 0, (0.1, 1e6)),
+    "duty_cycle": (wf.duty_cycle, (1.52, 333e-6), 0, (1e-3, 1e3)),
     "max_pulse_length_s": (sonar.max_pulse_length_s, (0.05, 1.52), 1, (1e-3, 1e3)),
-    "pulse_compression_gain_db": (sonar.pulse_compression_gain_db, (15e3, 0.0329), 0, (1.0, 1e6)),
+    "pulse_compression_gain_db": (wf.pulse_compression_gain_db, (15e3, 0.0329), 0, (1.0, 1e6)),
 }
 
 
-@pytest.mark.parametrize("name", sorted(_CASES))
-def test_jit_vmap_and_gradient_match(name):
-    fn, args, i, _ = _CASES[name]
-    assert_argument_case(fn, args, i)
-
-
-@pytest.mark.parametrize("name", sorted(_CASES))
-@settings(max_examples=30, deadline=None)
-@given(u=st.floats(0.0, 1.0))
-def test_gradient_finite_over_domain(name, u):
-    fn, args, i, (lo, hi) = _CASES[name]
-    assert_argument_gradient_finite(fn, args, i, lo, hi, u)
+globals().update(argument_suite(_CASES))
 
 
 @pytest.mark.parametrize(
@@ -309,13 +298,13 @@ def test_gradient_finite_over_domain(name, u):
         lambda: sonar.pd_from_detection_index(-1.0, 1e-6),
         lambda: sonar.detection_threshold_known_signal_db(0.0, 1.0),
         lambda: sonar.detection_threshold_energy_db(10.0, 100.0, -1.0),
-        lambda: sonar.pulse_range_resolution_m(-1e-3),
-        lambda: sonar.chirp_range_resolution_m(0.0),
-        lambda: sonar.cross_range_resolution_m(100.0, 4.0),
-        lambda: sonar.max_prf_hz(0.0),
-        lambda: sonar.duty_cycle(1.0, 0.0),
+        lambda: wf.range_resolution_pulse_m(-1e-3),
+        lambda: wf.range_resolution_bandwidth_m(0.0),
+        lambda: wf.real_aperture_cross_range_m(100.0, 4.0),
+        lambda: wf.max_prf_hz(0.0),
+        lambda: wf.duty_cycle(1.0, 0.0),
         lambda: sonar.max_pulse_length_s(1.5, 1.0),
-        lambda: sonar.pulse_compression_gain_db(1e3, float("nan")),
+        lambda: wf.pulse_compression_gain_db(1e3, float("nan")),
     ],
 )
 def test_out_of_domain_raises(call):

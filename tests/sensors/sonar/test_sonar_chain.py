@@ -6,8 +6,6 @@ Numbers checked here come from closed forms: central finite differences of the c
 worked example is in tests/test_book_sidescan_sonar.py.
 """
 
-import functools
-
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -21,6 +19,8 @@ from diffsense.scene import CHAINS, complete_parameters, evaluate, output_table,
 from diffsense.sensors.parts import traced_parts
 from diffsense.scene import Scene
 from diffsense.design.units import check_unit
+
+from helpers.chain_checks import BatchedJvp
 
 ALL_ACTIVE_PARTS = ("sea_noise", "thermal_noise", "receiver_noise", "surface_reverberation",
                     "bottom_reverberation", "volume_reverberation")
@@ -110,47 +110,14 @@ DIFF = ("range_m", "freq_hz", "sea_state", "pulse_width_s", "chirp_bandwidth_hz"
         "target_radius_m", "electrical_power_w", "beamwidth_az_deg", "pd", "bottom_scattering_strength_db")
 OUTS = ("snr_margin_db", "detection_range_m", "pd", "cross_range_resolution_m", "max_pulse_length_s")
 K = len(DIFF)
-N = 3 * K  # K tangent columns at the base point, then ± steps for each parameter
-
-
-def _outputs(p):
-    ev = CHAINS["sonar"].compute(SCENE, p)
-    v = ev.values
-    return jnp.stack([v[o] for o in OUTS] + [v["snr_db"] - ev.budget.total])
-
-
-@functools.lru_cache(maxsize=1)
-def _batched_jvp():
-    """jit(vmap(jvp)) of the chain outputs: one compilation serves every test below."""
-    return jax.jit(jax.vmap(lambda p, t: jax.jvp(_outputs, (p,), (t,))))
-
-
-def _batch(base):
-    p = complete_parameters(SCENE, base)
-    primal = {q: np.full(N, float(v)) for q, v in p.items()}
-    tangent = {q: np.zeros(N) for q in p}
-    steps = {}
-    for i, q in enumerate(DIFF):
-        tangent[q][i] = 1.0
-        h = 1e-6 * abs(float(p[q]))
-        steps[q] = h
-        primal[q][K + 2 * i] += h
-        primal[q][K + 2 * i + 1] -= h
-    return primal, tangent, steps
+JVP = BatchedJvp("sonar", SCENE, OUTS, DIFF)  # one compilation serves every test below
 
 
 def test_chain_jit_vmap_grad_match_eager_and_central_differences():
-    primal, tangent, steps = _batch(BASE)
-    values, tangents = (np.asarray(a) for a in _batched_jvp()(primal, tangent))
-    eager = evaluate(SCENE, BASE)
-    for j, o in enumerate(OUTS):  # jit + vmap equal the eager evaluation at the base point
-        assert values[0, j] == pytest.approx(float(eager[o]), rel=1e-9, abs=1e-12)
+    # jit + vmap equal eager (abs 1e-12), budget terms sum to snr_db, derivatives equal
+    # central differences (abs 1e-9·max(1, |value|))
+    eager = JVP.assert_matches_eager_and_differences(BASE, value_atol=1e-12, derivative_floor=1.0)
     assert float(eager["pd"]) == pytest.approx(0.5, abs=0.49)  # the base point is on the Pd slope
-    assert np.all(np.abs(values[:, -1]) < 1e-9)  # budget terms sum to snr_db
-    for i, q in enumerate(DIFF):
-        fd = (values[K + 2 * i] - values[K + 2 * i + 1]) / (2 * steps[q])
-        for j, o in enumerate(OUTS):
-            assert tangents[i, j] == pytest.approx(fd[j], rel=1e-5, abs=1e-9 * max(1.0, abs(values[0, j]))), (q, o)
 
 
 _DOMAIN = dict(range_m=(1.0, 1e6, True), freq_hz=(1e3, 2e5, True), sea_state=(0.0, 6.0, False),
@@ -163,14 +130,7 @@ _DOMAIN = dict(range_m=(1.0, 1e6, True), freq_hz=(1e3, 2e5, True), sea_state=(0.
 @settings(max_examples=30, deadline=None)
 @given(st.lists(st.floats(0.0, 1.0), min_size=K, max_size=K))
 def test_chain_values_and_gradients_finite_over_domain(us):
-    point = dict(BASE)
-    for q, u in zip(DIFF, us):
-        lo, hi, log = _DOMAIN[q]
-        x = np.exp(np.log(lo) + u * (np.log(hi) - np.log(lo))) if log else lo + u * (hi - lo)
-        point[q] = float(np.clip(x, lo, hi))  # exp(log(x)) may round past a bound
-    primal, tangent, _ = _batch(point)
-    values, tangents = (np.asarray(a) for a in _batched_jvp()(primal, tangent))
-    assert np.all(np.isfinite(values)) and np.all(np.isfinite(tangents[:K]))
+    values = JVP.assert_finite_at(BASE, _DOMAIN, us)
     assert np.all(np.abs(values[:, -1]) < 1e-8 * np.maximum(1.0, np.abs(values[:, 0])))
 
 

@@ -10,19 +10,15 @@ Independent references used by the assertions:
 - Central finite differences of the chain (float64) for its gradients.
 """
 
-import functools
 import math
 
 import jax
-import jax.numpy as jnp
-import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import diffsense  # noqa: F401
 from diffsense.sensors import ultrasonic as us
-from diffsense.sensors.ultrasonic import chain as us_chain
 from diffsense.errors import DomainError
 from diffsense.scene import CHAINS, complete_parameters, evaluate, output_table, parameter_table
 from diffsense.sensors.parts import traced_parts
@@ -30,7 +26,8 @@ from diffsense.physics.propagation import acoustic
 from diffsense.scene import Scene
 from diffsense.design.units import check_unit
 
-from helpers.function_checks import assert_argument_case, assert_argument_gradient_finite
+from helpers.chain_checks import BatchedJvp
+from helpers.function_suite import argument_suite
 
 # -------------------------------------------------------------------------------------------
 # Functions
@@ -45,7 +42,7 @@ def test_spl_scales_with_drive_voltage_squared_book_13_20():
 
 def test_receiver_output_voltage_book_13_20():
     # 20 log10 V = 102.4 − 63 + 20 log10(0.0002) → 18.6 mV (the book rounds −73.98 to −74).
-    assert us_chain._SPL_TO_MICROBAR_DB == pytest.approx(-73.98, abs=0.005)
+    assert us.SPL_TO_MICROBAR_DB == pytest.approx(-73.98, abs=0.005)
     assert float(us.receiver_output_voltage_v(102.4, -63.0)) == pytest.approx(18.6e-3, abs=0.1e-3)
     # 94 dB SPL = 1 Pa = 10 µbar; at 0 dB re 1 V/µbar that is 10 V (1 Pa: 93.98 dB)
     assert float(us.receiver_output_voltage_v(20 * math.log10(1.0 / 20e-6), 0.0)) == pytest.approx(10.0, rel=1e-12)
@@ -79,18 +76,7 @@ _CASES = {
 }
 
 
-@pytest.mark.parametrize("name", sorted(_CASES))
-def test_jit_vmap_and_gradient_match(name):
-    fn, args, i, _ = _CASES[name]
-    assert_argument_case(fn, args, i)
-
-
-@pytest.mark.parametrize("name", sorted(_CASES))
-@settings(max_examples=30, deadline=None)
-@given(u=st.floats(0.0, 1.0))
-def test_gradient_finite_over_domain(name, u):
-    fn, args, i, (lo, hi) = _CASES[name]
-    assert_argument_gradient_finite(fn, args, i, lo, hi, u)
+globals().update(argument_suite(_CASES))
 
 
 @pytest.mark.parametrize(
@@ -191,45 +177,14 @@ BASE = dict(range_m=9.6, freq_hz=40e3, drive_voltage_v=20.0, temperature_k=295.0
 DIFF = tuple(BASE)
 OUTS = ("snr_margin_db", "detection_range_m", "pd", "output_voltage_v", "time_of_flight_s")
 K = len(DIFF)
-N = 3 * K
-
-
-def _outputs(p):
-    ev = CHAINS["ultrasonic"].compute(SCENE, p)
-    return jnp.stack([ev.values[o] for o in OUTS] + [ev.values["snr_db"] - ev.budget.total])
-
-
-@functools.lru_cache(maxsize=1)
-def _batched_jvp():
-    return jax.jit(jax.vmap(lambda p, t: jax.jvp(_outputs, (p,), (t,))))
-
-
-def _batch(base):
-    p = complete_parameters(SCENE, base)
-    primal = {q: np.full(N, float(v)) for q, v in p.items()}
-    tangent = {q: np.zeros(N) for q in p}
-    steps = {}
-    for i, q in enumerate(DIFF):
-        tangent[q][i] = 1.0
-        h = 1e-6 * abs(float(p[q])) or 1e-6
-        steps[q] = h
-        primal[q][K + 2 * i] += h
-        primal[q][K + 2 * i + 1] -= h
-    return primal, tangent, steps
+JVP = BatchedJvp("ultrasonic", SCENE, OUTS, DIFF, zero_step=1e-6)
 
 
 def test_chain_jit_vmap_grad_match_eager_and_central_differences():
-    primal, tangent, steps = _batch(BASE)
-    values, tangents = (np.asarray(a) for a in _batched_jvp()(primal, tangent))
-    eager = evaluate(SCENE, BASE)
-    for j, o in enumerate(OUTS):
-        assert values[0, j] == pytest.approx(float(eager[o]), rel=1e-9, abs=1e-15)
+    # derivatives equal central differences to abs 1e-9·max(1e-6, |value|): the outputs are volts
+    # and seconds
+    eager = JVP.assert_matches_eager_and_differences(BASE, value_atol=1e-15, derivative_floor=1e-6)
     assert 0.05 < float(eager["pd"]) < 0.99  # on the Pd slope, so its derivative is exercised
-    assert np.all(np.abs(values[:, -1]) < 1e-9)
-    for i, q in enumerate(DIFF):
-        fd = (values[K + 2 * i] - values[K + 2 * i + 1]) / (2 * steps[q])
-        for j, o in enumerate(OUTS):
-            assert tangents[i, j] == pytest.approx(fd[j], rel=1e-5, abs=1e-9 * max(1e-6, abs(values[0, j]))), (q, o)
 
 
 _DOMAIN = dict(range_m=(0.01, 1e4, True), freq_hz=(1e3, 1e6, True), drive_voltage_v=(1e-3, 1e4, True),
@@ -241,11 +196,4 @@ _DOMAIN = dict(range_m=(0.01, 1e4, True), freq_hz=(1e3, 1e6, True), drive_voltag
 @settings(max_examples=30, deadline=None)
 @given(st.lists(st.floats(0.0, 1.0), min_size=K, max_size=K))
 def test_chain_values_and_gradients_finite_over_domain(us_):
-    point = {}
-    for q, u in zip(DIFF, us_):
-        lo, hi, log = _DOMAIN[q]
-        x = np.exp(np.log(lo) + u * (np.log(hi) - np.log(lo))) if log else lo + u * (hi - lo)
-        point[q] = float(np.clip(x, lo, hi))
-    primal, tangent, _ = _batch(point)
-    values, tangents = (np.asarray(a) for a in _batched_jvp()(primal, tangent))
-    assert np.all(np.isfinite(values)) and np.all(np.isfinite(tangents[:K]))
+    JVP.assert_finite_at(BASE, _DOMAIN, us_)

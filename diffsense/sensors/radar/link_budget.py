@@ -1,0 +1,208 @@
+"""The radar chain's link-budget stage: antenna, matched-filter mismatch, path attenuation and
+multipath, and the signed dB terms whose sum is the single-pulse SNR (Brooker §9.9.1, §8.16.11).
+
+Terms, top to bottom (see :mod:`diffsense.sensors.radar.chain`)::
+
+    peak_power_dbw 10 log10 Pt, transmit_loss_db −L_tx, two_way_gain_db +2 G,
+    wavelength_db 10 log10(λ²/(4π)³), rcs_dbsm 10 log10 σ, range_db −40 log10 R,
+    scan/matched_filter/cfar/misc losses −L each,
+    <part>_attenuation_db −2 α R/1000, multipath_db +40 log10|F|,
+    boltzmann_db −10 log10(k T0), bandwidth_db −10 log10 β, noise_figure_db −NF, receive_loss_db −L_rx.
+
+The terms that do not depend on range are evaluated once; :class:`Link` evaluates the others at
+any range, so the detection-range root finds reuse it.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+
+from diffsense import detection as _det
+from diffsense.errors import DomainError
+from diffsense.numerics.checks import check_range, is_concrete
+from diffsense.numerics.db import DB_PER_NEPER, db10
+from diffsense.physics import antennas as _ant
+from diffsense.physics.constants import BOLTZMANN_J_K, REFERENCE_TEMPERATURE_K
+from diffsense.physics.propagation.free_space import atmospheric_two_way_loss_db
+from diffsense.physics.propagation.refraction import radar_horizon_m
+from diffsense.physics.waveforms import duty_cycle, range_resolution_pulse_m, unambiguous_range_m, update_rate_hz
+from diffsense.sensors.chain import Budget, BudgetBuilder
+from diffsense.sensors.radar import equation as eq
+from diffsense.sensors.radar import parts
+from diffsense.sensors.radar.structure import option
+
+__all__ = ["Antenna", "antenna", "matched_filter_loss_db", "specific_attenuations_db_km", "check_inside_horizon",
+           "Link", "link_outputs"]
+
+#: −10 log10(k T0) (dBW/Hz): the noise density of the reference temperature, with its sign in the budget.
+_BOLTZMANN_TERM_DB = -DB_PER_NEPER * math.log(BOLTZMANN_J_K * REFERENCE_TEMPERATURE_K)
+
+
+class Antenna(NamedTuple):
+    """Antenna gain (dB) and 3 dB beamwidths (rad)."""
+
+    gain_db: jnp.ndarray
+    beamwidth_az_rad: jnp.ndarray
+    beamwidth_el_rad: jnp.ndarray
+
+
+def antenna(scene, p, wavelength_m) -> Antenna:
+    """Option ``antenna``: a circular aperture (G = 4πρA/λ², θ = k λ/d, book eq 5.11) or a
+    specified gain and beamwidths."""
+    if option(scene, "antenna") == "circular_aperture":
+        d = p["antenna_diameter_m"]
+        gain_db = db10(_ant.gain_from_aperture(_ant.circular_aperture_area_m2(d), wavelength_m, p["aperture_efficiency"]))
+        bw = _ant.beamwidth_rad(wavelength_m, d, p["beamwidth_factor"])
+        return Antenna(gain_db, bw, bw)
+    return Antenna(p["gain_db"], jnp.deg2rad(p["beamwidth_az_deg"]), jnp.deg2rad(p["beamwidth_el_deg"]))
+
+
+def matched_filter_loss_db(scene, p):
+    """Mismatch loss (dB) of the IF filter of option ``matched_filter`` at βτ, or ``None`` for an
+    ideal matched filter (book §8.16.9.3)."""
+    mf = option(scene, "matched_filter")
+    if mf == "matched":
+        return None
+    bt = p["bandwidth_hz"] * p["pulse_width_s"]
+    if is_concrete(bt):
+        lo, hi = (0.01, 2.86) if mf == "rectangular" else (0.01, 50.0)
+        check_range("bandwidth_hz * pulse_width_s", bt, lo, hi, where=f"radar chain, matched_filter={mf!r}")
+    return _det.matched_filter_loss_db(bt, mf)
+
+
+def specific_attenuations_db_km(scene, p):
+    """``{part: one-way specific attenuation (dB/km)}`` of the attenuation parts present
+    (independent of range)."""
+    alphas = {}
+    if scene.has("gas"):
+        if option(scene, "gas_model") == "itu_p676":
+            alphas["gas"] = parts.gas_itu_attenuation_db_km(p["freq_hz"], p["pressure_hpa"], p["air_temperature_k"],
+                                                            p["water_vapour_g_m3"])
+        else:
+            alphas["gas"] = parts.gas_given_attenuation_db_km(p["gas_attenuation_db_km"])
+    if scene.has("rain"):
+        if option(scene, "rain_model") == "itu_p838":
+            tilt = 0.0 if option(scene, "polarization") == "horizontal" else 90.0
+            alphas["rain"] = parts.rain_itu_attenuation_db_km(p["freq_hz"], p["rain_rate_mm_h"], jnp.asarray(tilt))
+        else:
+            alphas["rain"] = parts.rain_given_attenuation_db_km(p["rain_attenuation_db_km"])
+    if scene.has("fog"):
+        alphas["fog"] = parts.fog_attenuation_db_km(p["freq_hz"], p["liquid_water_g_m3"], p["air_temperature_k"])
+    if scene.has("dust"):
+        alphas["dust"] = parts.dust_attenuation_db_km(p["freq_hz"], p["visibility_m"])
+    return alphas
+
+
+def check_inside_horizon(scene, p):
+    """With multipath, a concrete ``range_m`` must lie inside the radar horizon (DomainError)."""
+    if not scene.has("multipath"):
+        return
+    r0, ha, ht = p["range_m"], p["antenna_height_m"], p["target_height_m"]
+    if not all(is_concrete(x) for x in (r0, ha, ht)):
+        return
+    with jax.ensure_compile_time_eval():  # concrete inputs: evaluate eagerly even under a trace
+        horizon = radar_horizon_m(ha, ht)
+        outside = bool(jnp.any(r0 >= horizon))
+    if outside:
+        raise DomainError("radar chain, multipath: 'range_m' must lie inside the radar horizon "
+                          f"d(h_antenna) + d(h_target) = {float(jnp.min(horizon)):.1f} m")
+
+
+def _multipath_db(scene, p):
+    """The two-way multipath term as a function of range, or ``None`` without the part."""
+    if not scene.has("multipath"):
+        return None
+    fn = parts.multipath_horizontal_db if option(scene, "polarization") == "horizontal" else parts.multipath_vertical_db
+    return lambda r: fn(r, p["antenna_height_m"], p["target_height_m"], p["freq_hz"], p["sea_state"])
+
+
+class Link:
+    """The budget of one radar scene: the range-independent terms, evaluated once, and the
+    range terms as functions of R (m)."""
+
+    def __init__(self, scene, p, wavelength_m, ant: Antenna):
+        self.alphas = specific_attenuations_db_km(scene, p)
+        self.multipath = _multipath_db(scene, p)
+        mf_loss = matched_filter_loss_db(scene, p)
+        beta = p["bandwidth_hz"]
+        self.const_terms = [
+            ("peak_power_dbw", db10(p["peak_power_w"])),
+            ("transmit_loss_db", -p["transmit_loss_db"]),
+            ("two_way_gain_db", 2.0 * ant.gain_db),
+            ("wavelength_db", 2.0 * db10(wavelength_m) - eq.FOUR_PI_CUBED_DB),
+            ("rcs_dbsm", db10(p["rcs_m2"])),
+        ]
+        self.loss_terms = [("scan_loss_db", -p["scan_loss_db"])]
+        if mf_loss is not None:
+            self.loss_terms.append(("matched_filter_loss_db", -mf_loss))
+        self.loss_terms += [("cfar_loss_db", -p["cfar_loss_db"]), ("misc_loss_db", -p["misc_loss_db"])]
+        self.noise_terms = [
+            ("boltzmann_db", _BOLTZMANN_TERM_DB * jnp.ones_like(beta)),
+            ("bandwidth_db", -db10(beta)),
+            ("noise_figure_db", -p["noise_figure_db"]),
+            ("receive_loss_db", -p["receive_loss_db"]),
+        ]
+        self.signal_const = sum(v for _, v in self.const_terms + self.loss_terms)
+        #: receiver noise N = k T0 β F L_rx (dBW)
+        self.noise_dbw = -sum(v for _, v in self.noise_terms)
+
+    @property
+    def alpha_total_db_km(self):
+        """Sum of the one-way specific attenuations (dB/km), or ``None`` without attenuation parts."""
+        return sum(self.alphas.values()) if self.alphas else None
+
+    def range_terms(self, r):
+        """The terms that depend on range: spreading, two-way attenuation of each part, multipath."""
+        terms = [("range_db", -4.0 * db10(r))]
+        for name, a in self.alphas.items():
+            terms.append((f"{name}_attenuation_db", -atmospheric_two_way_loss_db(r, a)))
+        if self.multipath is not None:
+            terms.append(("multipath_db", self.multipath(r)))
+        return terms
+
+    def signal_dbw(self, r):
+        """Received echo power (dBW) and the multipath term (dB, or ``None``) at range r."""
+        terms = self.range_terms(r)
+        mp = dict(terms).get("multipath_db")
+        return self.signal_const + sum(v for _, v in terms), mp
+
+    def budget(self, r) -> Budget:
+        """The named budget at range r, in the book's order; its total is the single-pulse SNR."""
+        bb = BudgetBuilder()
+        for name, v in self.const_terms:
+            bb.add(name, v)
+        rterms = dict(self.range_terms(r))
+        bb.add("range_db", rterms.pop("range_db"))
+        for name, v in self.loss_terms + list(rterms.items()) + self.noise_terms:
+            bb.add(name, v)
+        return bb.build()
+
+
+def link_outputs(p, link: Link, ant: Antenna, wavelength_m, snr_db, signal_dbw):
+    """The budget's own outputs at ``range_m`` and the waveform's (resolution, ambiguity, timing,
+    power), with the IF gain of book §8.16.12."""
+    tau, prf = p["pulse_width_s"], p["prf_hz"]
+    duty = duty_cycle(prf, tau)
+    values = {
+        "snr_db": snr_db,
+        "received_power_dbm": signal_dbw + 30.0,
+        "noise_power_dbm": link.noise_dbw + 30.0,
+        "wavelength_m": wavelength_m,
+        "gain_db": ant.gain_db,
+        "beamwidth_deg": jnp.rad2deg(ant.beamwidth_az_rad),
+        "beamwidth_el_deg": jnp.rad2deg(ant.beamwidth_el_rad),
+        "range_resolution_m": range_resolution_pulse_m(tau),
+        "unambiguous_range_m": unambiguous_range_m(prf),
+        "update_rate_hz": update_rate_hz(prf, p["n_pulses"]),
+        "duty_cycle": duty,
+        "average_power_w": p["peak_power_w"] * duty,
+        "if_gain_db": eq.if_gain_required_db(signal_dbw + 30.0, p["receive_loss_db"], p["mixer_loss_db"],
+                                             p["rcs_fade_db"], p["tangential_sensitivity_dbm"], p["tss_margin_db"]),
+    }
+    if link.alphas:
+        values["two_way_attenuation_db"] = eq.two_way_attenuation_db(p["range_m"], *link.alphas.values())
+    return values

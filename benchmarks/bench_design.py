@@ -26,8 +26,13 @@ The model is the spec's own (``DesignModel``): the best catalog combination of t
    sequence, ``lax.map``), the number of combinations (one start's catalog options per vmap)
    and all lanes in one vmap. Compile and warm run time, converged lanes.
 
-Run: python benchmarks/bench_design.py [--spec designs/ore_pass.toml] [--repeats 30] [--skip-cli]
+Run: python benchmarks/bench_design.py [--spec designs/ore_pass.toml] [--repeats 30] [--skip-cli] [--quick]
+(section 1 needs scipy, in the ``bench`` extras).
 Times are wall-clock on this machine (2 cores, possibly shared: ratios measured in one run).
+``--quick`` prints the same tables for the smaller lidar spec (``designs/lidar_rangefinder.toml``,
+unless ``--spec`` is given) with 2 rounds, fewer rows (one tolerance, batches of 4 specs with the
+AL solver only, two lane layouts of 2 starts) and no process cold start: a check that the
+benchmark works, not a measurement.
 """
 
 from __future__ import annotations
@@ -41,21 +46,23 @@ import time
 import warnings
 from pathlib import Path
 
+import _support
 import jax
 import jax.numpy as jnp
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+import diffsense  # noqa: F401
+from diffsense.design.model import DesignModel
+from diffsense.design.optimizer import _tight_limits, build_problem, lane_grid, lane_solver
+from diffsense.design.spec import load_spec
+from diffsense.optimize import SolverOptions, make_batch_solver, solve
+from diffsense.optimize.multistart import start_points
 
-import diffsense  # noqa: E402,F401
-from diffsense.design.model import DesignModel  # noqa: E402
-from diffsense.design.optimizer import _tight_limits, build_problem  # noqa: E402
-from diffsense.optimize import SolverOptions, solve  # noqa: E402
-from diffsense.design.spec import load_spec  # noqa: E402
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_optimizer import _median_time  # noqa: E402
+ROOT = _support.ROOT
+_median_time = _support.median_time
+TOLERANCES = (1e-4, 1e-6, 1e-8, 1e-10)
+#: section 3's layouts: (method, label, lockstep)
+BATCH_LAYOUTS = (("sqp", "in sequence (1)", 1), ("al", "in sequence (1)", 1), ("al", "one vmap (None)", None))
 
 
 def _setup(spec_path):
@@ -190,13 +197,13 @@ def comparison(model, combo, problem, theta, repeats):
           "feasible objective of the four; violation: largest scaled requirement violation")
 
 
-def tolerance_sweep(model, combo, problem, theta, repeats):
+def tolerance_sweep(model, combo, problem, theta, repeats, tolerances=TOLERANCES):
     print("\n== 2. diffsense: solve time against objective error (tolerance sweep) ==")
     ref_x, _, _, _ = run_ours(model, problem, theta, SolverOptions(polish=False, tol=1e-11, feas_tol=1e-11), 1)
     ref = _objective(model, ref_x, combo)
     print(f"{'method':>6s} {'tol':>8s} {'time ms':>9s} {'rel err':>9s} {'violation':>9s}")
     for method in ("sqp", "al"):
-        for tol in (1e-4, 1e-6, 1e-8, 1e-10):
+        for tol in tolerances:
             options = SolverOptions(method=method, polish=False, tol=tol, feas_tol=tol)
             x, conv, _, ts = run_ours(model, problem, theta, options, repeats)
             obj = _objective(model, x, combo)
@@ -206,14 +213,11 @@ def tolerance_sweep(model, combo, problem, theta, repeats):
     print("rel err: against the AL solve at tol = feas_tol = 1e-11; time: median of back-to-back calls")
 
 
-def batch_throughput(model, combo, problem, theta, sizes):
+def batch_throughput(model, combo, problem, theta, sizes, layouts=BATCH_LAYOUTS):
     print("\n== 3. batch: sweep of the first requirement's limit, one compiled call (make_batch_solver) ==")
-    from diffsense.optimize import make_batch_solver
-
     print(f"{'method':>6s} {'lockstep':>22s} {'B':>6s} {'compile s':>9s} {'time s':>8s} {'ms/spec':>8s} "
           f"{'converged':>9s}")
-    for method, label, lockstep in (("sqp", "in sequence (1)", 1), ("al", "in sequence (1)", 1),
-                                    ("al", "one vmap (None)", None)):
+    for method, label, lockstep in layouts:
         fn = make_batch_solver(problem, SolverOptions(method=method, polish=False), lockstep=lockstep)
         for B in sizes:
             lims = np.tile(np.asarray(theta[1]), (B, 1))
@@ -242,17 +246,16 @@ def cli_cold_start(spec_path):
             print(f"{label:32s} {time.perf_counter() - t:7.1f} s  exit {p.returncode}")
 
 
-def lanes_in_lockstep(model, problem):
+def lanes_in_lockstep(model, problem, n_starts=8, layouts=("sequence", "combinations", "all")):
     print("\n== 5. design optimiser's first step: all (start, combination) lanes in one call ==")
-    from diffsense.design.optimizer import lane_grid, lane_solver
-    from diffsense.optimize.multistart import start_points
-
-    starts = np.vstack([model.initial[None, :], start_points(problem, 7, seed=0, method="lhs")])
+    starts = np.vstack([model.initial[None, :], start_points(problem, n_starts - 1, seed=0, method="lhs")])
     n_c, n_s = len(model.combinations), starts.shape[0]
     args = tuple(jnp.asarray(c) for c in lane_grid(model, starts, _tight_limits(model, 1e-7)))
     print(f"{'lanes per vmap':>24s} {'compile s':>9s} {'run s':>7s} {'converged':>9s}")
     rows = []
-    for label, k in (("1 (in sequence)", 1), (f"{n_c} (combinations)", n_c), (f"{n_s * n_c} (all)", None)):
+    lockstep = {"sequence": ("1 (in sequence)", 1), "combinations": (f"{n_c} (combinations)", n_c),
+                "all": (f"{n_s * n_c} (all)", None)}
+    for label, k in (lockstep[name] for name in layouts):
         fn = lane_solver(problem, SolverOptions(polish=False), k)
         t = time.perf_counter()
         jax.block_until_ready(fn(*args))
@@ -261,17 +264,28 @@ def lanes_in_lockstep(model, problem):
         r = fn(*args)
         rows.append(tr)
         print(f"{label:>24s} {tc - tr:9.2f} {tr:7.3f} {int(np.sum(np.asarray(r.converged))):5d}/{n_s * n_c}")
-    print(f"run time ratios to lanes in sequence: {rows[1] / rows[0]:.1f}x, {rows[2] / rows[0]:.1f}x")
+    print("run time ratios to lanes in sequence: " + ", ".join(f"{r / rows[0]:.1f}x" for r in rows[1:]))
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--spec", default=str(ROOT / "designs" / "ore_pass.toml"))
+    ap.add_argument("--spec", help="default designs/ore_pass.toml (designs/lidar_rangefinder.toml with --quick)")
     ap.add_argument("--repeats", type=int, default=30)
     ap.add_argument("--skip-cli", action="store_true")
+    ap.add_argument("--quick", action="store_true", help=_support.QUICK_HELP)
     args = ap.parse_args()
+    _support.require("bench_design.py", "scipy")
+    if args.spec is None:
+        args.spec = str(ROOT / "designs" / ("lidar_rangefinder.toml" if args.quick else "ore_pass.toml"))
     model, combo, problem, theta = _setup(args.spec)
     print(f"spec {args.spec}; combination: {model.combinations[combo].options}; variables {model.variable_names}")
+    if args.quick:
+        comparison(model, combo, problem, theta, 2)
+        tolerance_sweep(model, combo, problem, theta, 2, tolerances=(1e-6,))
+        batch_throughput(model, combo, problem, theta, (4,), layouts=BATCH_LAYOUTS[1:])
+        lanes_in_lockstep(model, problem, n_starts=2, layouts=("sequence", "all"))
+        print("\n== 4. process cold start: skipped with --quick ==")
+        return
     comparison(model, combo, problem, theta, args.repeats)
     tolerance_sweep(model, combo, problem, theta, args.repeats)
     batch_throughput(model, combo, problem, theta, (16, 256))

@@ -4,8 +4,10 @@ Prints time per element and maximum error against the mpmath reference (on a sub
 diffsense (warm jit and cold), scipy's vectorised closed forms, and the `sdr` package where it
 has the function, and draws run time per point against maximum error (one labelled point per
 method) to ``docs/figures/detection_speed_vs_error.png``.
-Run from the repository root:
-PYTHONPATH=. python benchmarks/bench_detection.py [--points 1000000] [--repeat 7] [--plot PATH | --no-plot]
+Run: python benchmarks/bench_detection.py [--points 1000000] [--repeat 7] [--plot PATH | --no-plot] [--quick]
+(needs the ``bench`` extras: scipy and mpmath; the `sdr` row is left out when `sdr` is missing).
+``--quick`` runs the same tables on 20,000 and 200 points with 2 rounds and draws the plot to a
+temporary file (the figure in docs/ is left as it is): a check that the benchmark works.
 
 Timings on a shared machine are noisy: the warm timings are interleaved (diffsense, scipy,
 diffsense, ...) and the best of ``--repeat`` rounds is reported, with the throughput ratio
@@ -16,16 +18,22 @@ points in random order (every chunk of the kernel then spans the whole SNR range
 from __future__ import annotations
 
 import argparse
+import sys
+import tempfile
 import time
 from pathlib import Path
 
-import jax
-import mpmath as mp
-import numpy as np
-from scipy import stats
+import _support
 
-import diffsense.detection as det
-from tests.reference import mp_detection as ref
+_support.require("bench_detection.py", "scipy", "mpmath")
+
+import jax  # noqa: E402
+import mpmath as mp  # noqa: E402
+import numpy as np  # noqa: E402
+from scipy import stats  # noqa: E402
+
+import diffsense.detection as det  # noqa: E402
+from tests.reference import mp_detection as ref  # noqa: E402
 
 
 def _time(fn, repeat=3):
@@ -50,7 +58,7 @@ def _time_interleaved(fns, repeat):
     return best, outs
 
 
-_DEFAULT_PLOT = Path(__file__).resolve().parent.parent / "docs" / "figures" / "detection_speed_vs_error.png"
+_DEFAULT_PLOT = _support.ROOT / "docs" / "figures" / "detection_speed_vs_error.png"
 
 
 def _plot(path, pd_rows, rsnr_rows, title_pd, title_rsnr, note):
@@ -99,7 +107,21 @@ def main():
     ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--plot", type=Path, default=_DEFAULT_PLOT, help="PNG of run time against error")
     ap.add_argument("--no-plot", action="store_true")
+    ap.add_argument("--quick", action="store_true", help=_support.QUICK_HELP)
     args = ap.parse_args()
+    if args.quick:
+        args.points, args.rsnr_points, args.repeat = 20_000, 200, 2
+        if args.plot == _DEFAULT_PLOT:
+            with tempfile.TemporaryDirectory() as tmp:
+                args.plot = Path(tmp) / "detection_speed_vs_error.png"
+                run(args)
+            print("(--quick: the plot went to a temporary file, now removed)")
+            return
+    return run(args)
+
+
+def run(args):
+    """Time and check the detection functions at ``args``' sizes; print the tables, draw the plot."""
     n, pfa = 10, 1e-6
     snr_db = np.linspace(-10.0, 30.0, args.points)
     s = 10.0 ** (snr_db / 10.0)
@@ -157,7 +179,7 @@ def main():
             ("sdr.shnidman (approximation)", ts, float(np.max(np.abs(out_s - exact))), "sdr.shnidman (approximation)")
         )
     except ImportError:
-        pass
+        print("\n(sdr is not installed: its row is left out; pip install sdr)", file=sys.stderr)
     print(f"\nRequired SNR, Swerling 1, N = {n}, Pfa = {pfa:g}, {args.rsnr_points} points")
     print(f"{'method':40s} {'s total':>9s} {'us/point':>9s} {'max |dSNR| dB':>14s}")
     for name, sec, err, _ in rows2:

@@ -14,6 +14,8 @@
 
 Run: python benchmarks/bench_optimizer.py [--quick] [--json out.json]
 Times are wall-clock medians on this machine (compile excluded and reported separately).
+``--quick`` runs the same tables on a few problems with 2 repeats, batches of 16 and 8 and one
+sharded run: a check that the benchmark works, not a measurement.
 """
 
 from __future__ import annotations
@@ -28,27 +30,21 @@ import time
 import warnings
 from pathlib import Path
 
+import _support
 import jax
 import jax.numpy as jnp
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
-import diffsense  # noqa: E402,F401
-from diffsense.optimize import SolverOptions, make_batch_solver, make_solver  # noqa: E402
-from diffsense.optimize import reference_problems as rp  # noqa: E402
+import diffsense  # noqa: F401
+from diffsense.optimize import SolverOptions, make_batch_solver, make_solver
+from diffsense.optimize import reference_problems as rp
 
 PROBLEMS = ["hs001", "hs007", "hs021", "hs028", "hs035", "hs039", "hs065", "hs071", "hs076", "hs100",
             "servo_bandwidth"]
-
-
-def _median_time(fn, repeats):
-    ts = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t)
-    return float(np.median(ts))
+QUICK_PROBLEMS = ["hs071", "hs100", "servo_bandwidth"]
+TOLERANCES = (1e-4, 1e-6, 1e-8, 1e-10)
+SWEEP_PROBLEMS = ["hs071", "hs100", "hs065"]
+_median_time = _support.median_time
 
 
 def _opt_error(f, f_star):
@@ -93,12 +89,12 @@ def run_slsqp(P, repeats, tol=1e-10):
     return out, t
 
 
-def comparison(repeats):
+def comparison(repeats, problems=PROBLEMS):
     rows = []
     print("\n== 1. diffsense (AL + BFGS + Newton polish, float64, jitted) vs scipy SLSQP (finite differences) ==")
     print(f"{'problem':17s} {'ours ms':>9s} {'compile s':>9s} {'ours err':>9s} {'SLSQP ms':>9s} {'SLSQP err':>9s} "
           f"{'nfev':>5s} {'time x':>7s}  note")
-    for name in PROBLEMS:
+    for name in problems:
         P = getattr(rp, name)()
         r, tc, ts = run_ours(P, SolverOptions(), repeats)
         out, tsl = run_slsqp(P, repeats)
@@ -117,15 +113,15 @@ def comparison(repeats):
     return rows
 
 
-def tolerance_sweep(repeats):
+def tolerance_sweep(repeats, problems=SWEEP_PROBLEMS, tolerances=TOLERANCES):
     rows = []
     print("\n== 2. tolerance sweep: solve time vs optimality error ==")
     print(f"{'problem':8s} {'tol':>7s} {'polish':>6s} {'ms':>8s} {'f err':>9s} {'stationarity':>12s} {'outer':>5s} "
           f"{'inner':>6s}")
-    for name in ["hs071", "hs100", "hs065"]:
+    for name in problems:
         P = getattr(rp, name)()
         for polish in (True, False):
-            for tol in (1e-4, 1e-6, 1e-8, 1e-10):
+            for tol in tolerances:
                 opts = SolverOptions(tol=tol, feas_tol=tol, polish=polish)
                 r, _, ts = run_ours(P, opts, repeats, compile="fast")
                 e = _opt_error(r.f, P.f_star)
@@ -204,6 +200,7 @@ def batch_throughput(B, BH, device_counts):
                              capture_output=True, text=True, env=env)
         if out.returncode != 0:
             print(f"sharded run with {n} devices failed: {out.stderr[-3000:]}")
+            rows.append(dict(case="sharded_failed", devices=n))
             continue
         res = json.loads(out.stdout.strip().splitlines()[-1])
         print(f"sharded over {res['devices']} host devices: servo {B / res['servo_s']:10.0f} solves/s, "
@@ -214,17 +211,24 @@ def batch_throughput(B, BH, device_counts):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--quick", action="store_true", help="fewer repeats and smaller batches")
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help=_support.QUICK_HELP)
     ap.add_argument("--json", help="write all numbers to this file")
     args = ap.parse_args()
-    repeats = 5 if args.quick else 20
-    B, BH = (512, 128) if args.quick else (4096, 1024)
-    print(f"jax {jax.__version__}, devices {jax.devices()}, cpu count {os.cpu_count()}")
-    out = {"comparison": comparison(repeats), "tolerance_sweep": tolerance_sweep(max(3, repeats // 4)),
-           "batch": batch_throughput(B, BH, [1, os.cpu_count() or 1])}
+    _support.require("bench_optimizer.py", "scipy")
+    cpus = os.cpu_count() or 1
+    print(f"jax {jax.__version__}, devices {jax.devices()}, cpu count {cpus}")
+    if args.quick:
+        out = {"comparison": comparison(2, QUICK_PROBLEMS),
+               "tolerance_sweep": tolerance_sweep(2, SWEEP_PROBLEMS[:1], TOLERANCES[::2]),
+               "batch": batch_throughput(16, 8, [cpus])}
+    else:
+        out = {"comparison": comparison(20), "tolerance_sweep": tolerance_sweep(5),
+               "batch": batch_throughput(4096, 1024, [1, cpus])}
     if args.json:
         Path(args.json).write_text(json.dumps(out, indent=1))
+    if any(row["case"] == "sharded_failed" for row in out["batch"]):
+        sys.exit("a sharded run failed (see above)")
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 """float32 accuracy of diffsense.detection.pd against the mpmath reference.
 
-Run from the repository root: PYTHONPATH=. python benchmarks/float32_accuracy.py
+Run: python benchmarks/float32_accuracy.py [--quick] (needs mpmath, in the ``bench`` extras).
+``--quick`` prints the same table on a smaller grid (N = 1, 10; Pfa = 1e-6; SNR = -5, 10, 25 dB).
 
 Grid: Swerling 0-4, N = 1, 10, 100, Pfa = 1e-3, 1e-6, 1e-10, SNR = -5, 0, ..., 25 dB. The
 float32 values come from a child process started with ``DIFFSENSE_X64=0`` (JAX keeps its 32-bit
@@ -9,7 +10,7 @@ Pfa and N) and, for Swerling 0, once through the fast kernel used when Pfa and N
 numbers. The reference is ``tests/reference/mp_detection.pd_mp`` at 30 digits, evaluated at the
 float32-rounded inputs (the SNRs and N are exact in float32; Pfa is rounded to float32 first).
 
-``tests/test_detection_float32.py`` asserts the error bound with the same functions.
+``tests/detection/test_detection_float32.py`` asserts the error bound with the same functions.
 """
 
 from __future__ import annotations
@@ -26,13 +27,15 @@ SWERLINGS = (0, 1, 2, 3, 4)
 PULSES = (1, 10, 100)
 PFAS = (1e-3, 1e-6, 1e-10)
 SNRS_DB = tuple(float(x) for x in np.linspace(-5.0, 25.0, 7))
+#: the smaller grid of ``--quick``
+QUICK_GRID = dict(swerlings=SWERLINGS, pulses=(1, 10), pfas=(1e-6,), snrs_db=(-5.0, 10.0, 25.0))
 
 _ROOT = Path(__file__).resolve().parent.parent
 
 
-def grid():
+def grid(swerlings=SWERLINGS, pulses=PULSES, pfas=PFAS, snrs_db=SNRS_DB):
     """Flat arrays (swerling, n, pfa, snr_db) of the grid; pfa and snr_db rounded to float32."""
-    sw, n, pfa, snr = np.meshgrid(SWERLINGS, PULSES, PFAS, SNRS_DB, indexing="ij")
+    sw, n, pfa, snr = np.meshgrid(swerlings, pulses, pfas, snrs_db, indexing="ij")
     return (
         sw.ravel().astype(int),
         n.ravel().astype(float),
@@ -113,16 +116,18 @@ def evaluate_float32(swerling, n, pfa, snr_db, timeout=600):
     return np.array(out["general"]), np.array(out["fast_swerling0"])
 
 
-def main():
-    sw, n, pfa, snr = grid()
+def main(quick=False):
+    axes = QUICK_GRID if quick else dict(swerlings=SWERLINGS, pulses=PULSES, pfas=PFAS, snrs_db=SNRS_DB)
+    sw, n, pfa, snr = grid(**axes)
     want = reference_pd(sw, n, pfa, snr)
     general, fast = evaluate_float32(sw, n, pfa, snr)
     err = np.abs(general - want)
     err_fast = np.abs(fast - want)
-    print("float32 max |Pd - Pd_mpmath| over Pfa 1e-3/1e-6/1e-10 and SNR -5...25 dB")
+    print(f"float32 max |Pd - Pd_mpmath| over Pfa {'/'.join(f'{p:.0e}'.replace('e-0', 'e-') for p in axes['pfas'])} "
+          f"and SNR {min(axes['snrs_db']):g}...{max(axes['snrs_db']):g} dB")
     print(f"{'Swerling':>8s} {'N':>5s} {'max |dPd|':>10s} {'at SNR dB, Pfa':>16s}")
-    for case in SWERLINGS:
-        for k in PULSES:
+    for case in axes["swerlings"]:
+        for k in axes["pulses"]:
             m = np.flatnonzero((sw == case) & (n == k))
             i = m[np.argmax(err[m])]
             print(f"{case:8d} {k:5d} {err[i]:10.2e} {snr[i]:8.0f}, {pfa[i]:.0e}")
@@ -137,4 +142,11 @@ if __name__ == "__main__":
     if "--evaluate" in sys.argv[1:]:
         print(json.dumps(_evaluate_here(json.loads(sys.stdin.read()))))
     else:
-        main()
+        import argparse
+
+        import _support  # the repository root on sys.path (tests.reference)
+
+        ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+        ap.add_argument("--quick", action="store_true", help=_support.QUICK_HELP)
+        _support.require("float32_accuracy.py", "mpmath")
+        main(quick=ap.parse_args().quick)

@@ -43,7 +43,7 @@ from diffsense.sensors.sonar import SonarChain
 from diffsense.sensors.structure import Scene
 from diffsense.sensors.ultrasonic import UltrasonicChain
 
-__all__ = ["Scene", "CHAINS", "sensor_kinds", "chain_for", "complete_parameters", "evaluate", "evaluator",
+__all__ = ["Scene", "CHAINS", "sensor_kinds", "chain_for", "complete_parameters", "evaluate", "evaluator", "describe",
            "parameter_table", "output_table"]
 
 CHAINS: Dict[str, Chain] = {chain.kind: chain for chain in (
@@ -127,3 +127,38 @@ def output_table(scene: Scene) -> Dict[str, Output]:
     return chain_for(scene).outputs(scene)
 
 
+
+
+def describe(scene: Scene) -> dict:
+    """What a scene takes and gives, as plain data: its sensor kind, every part the kind knows
+    (with whether the scene holds it), every static option (default, allowed values, the value the
+    scene sets), the parameters it takes (unit, default, domain, part, meaning) and the outputs it
+    produces (unit, meaning). Used by ``diffsense describe`` and by error messages.
+
+    >>> d = describe(Scene("radar", ["rain"]))
+    >>> d["options"]["matched_filter"]["default"], d["parts"]["rain"]["in_scene"]
+    ('two_tuned', True)
+    >>> d["parameters"]["rain_rate_mm_h"]["unit"], d["parameters"]["rain_rate_mm_h"]["part"]
+    ('mm/h', 'rain')
+    """
+    chain = chain_for(scene)
+    params = chain.parameters(scene)
+    outputs = chain.outputs(scene)
+
+    def domain(p: Param) -> str:
+        lo = "-inf" if p.lo is None else f"{p.lo:g}"
+        hi = "inf" if p.hi is None else f"{p.hi:g}"
+        left = "(" if p.lo is None or p.lo_open else "["
+        right = ")" if p.hi is None or p.hi_open else "]"
+        return f"{left}{lo}, {hi}{right}"
+
+    return {
+        "sensor": scene.sensor,
+        "description": chain.description,
+        "parts": {name: {"description": text, "in_scene": scene.has(name)} for name, text in chain.parts.items()},
+        "options": {name: {"default": default, "values": list(allowed), "value": scene.option(name, default)}
+                    for name, (default, allowed) in chain.options.items()},
+        "parameters": {name: {"unit": p.unit, "default": p.default, "domain": domain(p), "part": p.part,
+                              "integer": p.integer, "doc": p.doc} for name, p in params.items()},
+        "outputs": {name: {"unit": o.unit, "doc": o.doc} for name, o in outputs.items()},
+    }

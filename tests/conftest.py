@@ -9,7 +9,10 @@
 
 import os
 
+import mpmath
 import pytest
+
+mpmath.mp.dps = 30  # reference values computed at import time (collection) use 30 digits
 
 _FLAG = "--xla_cpu_use_fusion_emitters=false"
 if _FLAG not in os.environ.get("XLA_FLAGS", ""):
@@ -25,3 +28,12 @@ def _release_compiled_programs():
 
     jax.clear_caches()
     gc.collect()
+
+
+@pytest.fixture(autouse=True)
+def _mpmath_working_precision(request):
+    """Each test starts at its module's ``MPMATH_DPS`` (30 digits if the module sets none), so a
+    test that raises the precision cannot change the reference values of a later one."""
+    mpmath.mp.dps = getattr(request.module, "MPMATH_DPS", 30)
+    yield
+    mpmath.mp.dps = getattr(request.module, "MPMATH_DPS", 30)

@@ -14,6 +14,7 @@ import re
 from typing import Union
 
 from diffsense.errors import UnitError
+from diffsense.numerics.db import db10, from_db10
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _QUANTITY = re.compile(rf"^\s*({_NUMBER})\s*(.*?)\s*$")
@@ -46,7 +47,7 @@ def split_quantity(text: str):
 def _to_linear(value: float, unit: str, target: str) -> float:
     if unit in _EXTRA_LOG_UNITS:
         base = _EXTRA_LOG_UNITS[unit]
-        return _to_linear(10.0 ** (value / 10.0), base, target)
+        return _to_linear(float(from_db10(value)), base, target)
     ureg = registry()
     try:
         q = ureg.Quantity(value, unit or "dimensionless")
@@ -67,6 +68,15 @@ def to_unit(value: Union[str, int, float], target: str) -> float:
     For ``target`` "dB" the value must be a bare number or carry "dB"/"dBi"; absolute levels
     (dBm, dBW, dBsm) are refused there. For a dimensionless ``target`` a "dB" value is turned
     into its power ratio. Raises :class:`UnitError` with a message naming the offending unit.
+
+    >>> to_unit("250 mm", "m"), to_unit(94e9, "Hz")
+    (0.25, 94000000000.0)
+    >>> to_unit("20 dBm", "W")                                    # 10^(20/10) mW
+    0.1
+    >>> abs(to_unit("11.5 dBsm", "m**2") - 10 ** (11.5 / 10)) < 1e-12
+    True
+    >>> to_unit("-105 dBW", "dBm")                                # +30 dB from W to mW
+    -75.0
     """
     if isinstance(value, bool):
         raise UnitError(f"expected a number or a quantity string, got the boolean {value!r}")
@@ -94,9 +104,9 @@ def to_unit(value: Union[str, int, float], target: str) -> float:
         linear = _to_linear(number, unit, _LOG_LEVELS[target][0])
         if linear <= 0:
             raise UnitError(f"{value!r} is not positive, so it has no level in {target}")
-        return 10.0 * math.log10(linear) + _LOG_LEVELS[target][1]
+        return float(db10(linear)) + _LOG_LEVELS[target][1]
     if unit == "dB" and target in ("", "1", "dimensionless"):
-        return 10.0 ** (number / 10.0)
+        return float(from_db10(number))
     return _to_linear(number, unit, target)
 
 

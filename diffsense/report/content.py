@@ -16,13 +16,50 @@ def _figure_blocks(report: dict, title_prefix: str) -> List[tuple]:
     return [("img", f["file"], f["caption"]) for f in report.get("figures", []) if f["title"].startswith(title_prefix)]
 
 
+def description_blocks(text: str) -> List[tuple]:
+    """A spec's description as report blocks: paragraphs separated by blank lines, and bullet
+    lists whose items start with ``*`` or ``-`` (an indented line continues the item above).
+
+    >>> description_blocks("Intro line\\nwraps.\\n\\nList:\\n* one\\n  more\\n* two")
+    [('p', 'Intro line wraps.'), ('p', 'List:'), ('ul', ['one more', 'two'])]
+    """
+    blocks: List[tuple] = []
+    para: List[str] = []
+    items: List[str] = []
+
+    def flush():
+        if para:
+            blocks.append(("p", " ".join(para)))
+            para.clear()
+        if items:
+            blocks.append(("ul", list(items)))
+            items.clear()
+
+    for raw in text.strip().splitlines():
+        line = raw.strip()
+        if not line:
+            flush()
+        elif line[:2] in ("* ", "- "):
+            if para:
+                flush()
+            items.append(line[2:].strip())
+        elif items and raw[:1] in (" ", "\t"):
+            items[-1] += " " + line
+        else:
+            if items:
+                flush()
+            para.append(line)
+    flush()
+    return blocks
+
+
 def _summary(report: dict) -> List[tuple]:
     blocks = [("h1", f"Design report: {report['title']}")]
     mode = ("the optimum found by diffsense's optimiser" if report["mode"] == "optimum"
             else "the spec's initial design (each variable's initial value, each catalog's first option)")
     blocks.append(("p", f"Spec file {report['spec_file']} ({report['sensor']}). This report describes {mode}."))
     if report.get("description"):
-        blocks.append(("p", " ".join(report["description"].split())))
+        blocks.extend(description_blocks(report["description"]))
     items = [f"Objective: {report['objective']['text']} = {fmt(report['objective']['value'])} "
              f"{unit_text(report['objective']['unit'])}".rstrip()]
     if report["mode"] == "optimum":
@@ -45,7 +82,8 @@ def _design(report: dict) -> List[tuple]:
         rows.append([name, d["value"], unit_text(d["unit"]), d["kind"], d.get("lower"), d.get("upper"),
                      status.get(name, "")])
     for name, option in report.get("choices", {}).items():
-        rows.append([name, option, "", "catalog option", None, None, ""])
+        if name not in report["design"]:  # a one-parameter catalog is already its parameter's row
+            rows.append([name, option, "", "catalog option", None, None, ""])
     return [("h2", "Design"),
             ("table", ["parameter", "value", "unit", "kind", "lower", "upper", "at the optimum"], rows)]
 

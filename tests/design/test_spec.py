@@ -100,4 +100,4 @@ def test_cli_invalid_spec_exits_2_without_traceback(tmp_path):
                          capture_output=True, text=True, cwd=ROOT)
     assert out.returncode == 2
     assert "Traceback" not in out.stdout + out.stderr
-    assert "variables.electrical_power_w" in out.stdout
+    assert "variables.electrical_power_w" in out.stderr  # errors go to standard error

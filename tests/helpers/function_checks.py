@@ -183,3 +183,9 @@ def assert_argument_gradient_finite(fn, args, i, lo, hi, u):
     when lo > 0)."""
     x = math.exp(math.log(lo) + u * (math.log(hi) - math.log(lo))) if lo > 0 else lo + u * (hi - lo)
     assert np.isfinite(float(compiled_in_argument(fn, args, i)[1](jnp.float64(x))))
+
+
+def grad_and_central_difference(fun, x0, h):
+    """``(fun′(x0), (fun(x0 + h) − fun(x0 − h))/(2h))`` as floats: a derivative by jax.grad and
+    the central difference that checks it."""
+    return float(jax.grad(fun)(x0)), float((fun(x0 + h) - fun(x0 - h)) / (2 * h))

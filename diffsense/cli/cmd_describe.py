@@ -1,0 +1,93 @@
+"""``diffsense describe [KIND] [--parts ...] [--option k=v ...]``: what a scene takes and gives.
+
+Without a kind it lists the sensor kinds; with one it prints the scene's parts, static options
+(default and allowed values), parameters (unit, default, domain, the part they belong to) and
+outputs. Error messages about unknown parameters point here.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+from rich.text import Text
+
+from diffsense.cli.output import EXIT_BAD_INPUT, Reporter, clip, fmt, write_json
+from diffsense.cli.state import reporter_from
+
+
+def _option_value(name: str, text: str, allowed):
+    """The allowed value whose text is ``text`` (so ``swerling=1`` gives the integer 1)."""
+    for value in allowed:
+        if str(value) == text:
+            return value
+    raise typer.BadParameter(f"option {clip(name)!r} takes one of {[str(v) for v in allowed]}; got {clip(text)!r}",
+                             param_hint="--option")
+
+
+def _scene(kind: str, parts: str, options: List[str]):
+    from diffsense.scene import CHAINS, Scene, chain_for
+
+    if kind not in CHAINS:
+        raise typer.BadParameter(f"unknown sensor kind {clip(kind)!r}; kinds: {sorted(CHAINS)}", param_hint="KIND")
+    chain = CHAINS[kind]
+    opts = {}
+    for item in options:
+        if "=" not in item:
+            raise typer.BadParameter(f"write KEY=VALUE; got {clip(item)!r}", param_hint="--option")
+        key, value = (s.strip() for s in item.split("=", 1))
+        if key not in chain.options:
+            raise typer.BadParameter(f"unknown option {clip(key)!r} of a {kind}; options: {sorted(chain.options)}",
+                                     param_hint="--option")
+        opts[key] = _option_value(key, value, chain.options[key][1])
+    scene = Scene(kind, [p.strip() for p in parts.split(",") if p.strip()], opts)
+    chain_for(scene)  # validates parts and options
+    return scene
+
+
+def _print_kinds(reporter: Reporter) -> None:
+    from diffsense.scene import CHAINS
+
+    reporter.table("Sensor kinds (diffsense describe KIND for one)", ("kind", "what it models"),
+                   [(k, CHAINS[k].description) for k in sorted(CHAINS)])
+
+
+def _print_scene(d: dict, reporter: Reporter) -> None:
+    reporter.out.print(Text.assemble((d["sensor"], "bold"), f": {d['description']}"))
+    reporter.table("Parts (add with --parts a,b)", ("part", "in scene", "what it adds"),
+                   [(k, "yes" if v["in_scene"] else "", v["description"]) for k, v in d["parts"].items()])
+    reporter.table("Options (set with --option KEY=VALUE)", ("option", "value", "default", "allowed"),
+                   [(k, str(v["value"]), str(v["default"]), ", ".join(map(str, v["values"])))
+                    for k, v in d["options"].items()])
+    rows = []
+    for name, p in d["parameters"].items():
+        default = "required" if p["default"] is None else fmt(p["default"])
+        rows.append((name, p["unit"], default, p["domain"], p["part"] or "", p["doc"]))
+    reporter.table("Parameters", ("parameter", "unit", "default", "domain", "part", "meaning"), rows)
+    reporter.table("Outputs", ("output", "unit", "meaning"), [(k, v["unit"], v["doc"]) for k, v in d["outputs"].items()])
+
+
+def describe(
+    ctx: typer.Context,
+    kind: Optional[str] = typer.Argument(None, help="Sensor kind (radar, lidar, sonar, radiometer, infrared, ultrasonic)."),
+    parts: str = typer.Option("", "--parts", help="Comma-separated scene parts, e.g. rain,multipath."),
+    option: List[str] = typer.Option([], "--option", help="A static option KEY=VALUE (repeatable), e.g. swerling=1."),
+    json_out: Optional[Path] = typer.Option(None, "--json", help="Write the description as JSON here."),
+):
+    """List the sensor kinds, or what one scene takes: parts, options, parameters (unit, default,
+    domain) and outputs."""
+    from diffsense.errors import DomainError
+    from diffsense.scene import describe as describe_scene
+
+    reporter = reporter_from(ctx)
+    if kind is None:
+        _print_kinds(reporter)
+        return
+    try:
+        d = describe_scene(_scene(kind, parts, option))
+    except DomainError as exc:
+        reporter.error(str(exc))
+        raise typer.Exit(code=EXIT_BAD_INPUT)
+    _print_scene(d, reporter)
+    write_json(d, json_out, reporter)

@@ -1,0 +1,129 @@
+"""``diffsense evaluate``, ``optimize`` and ``report``: a requirement spec checked, optimised or
+written up. Exit codes: 0 every requirement met, 2 an invalid spec, 3 a requirement left unmet."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from diffsense.cli.output import EXIT_BAD_INPUT, EXIT_UNMET, Reporter, write_json
+from diffsense.cli.records import print_record, unmet
+from diffsense.cli.state import reporter_from
+
+DESIGN_FILE = typer.Argument(..., help="Requirement spec (TOML), e.g. designs/ore_pass.toml.", show_default=False)
+
+
+def load_model(design_file: Path, reporter: Reporter):
+    """Read, validate and model a spec; on an invalid spec print one error line and exit 2."""
+    from diffsense.design.model import DesignModel
+    from diffsense.design.spec import load_spec
+    from diffsense.errors import SpecError
+
+    try:
+        with reporter.step(f"reading {design_file}"):
+            spec = load_spec(design_file)
+        with reporter.step("building the design model"):
+            return DesignModel(spec)
+    except SpecError as exc:
+        reporter.error(str(exc))
+        raise typer.Exit(code=EXIT_BAD_INPUT)
+
+
+def _fail_if_unmet(names, reporter: Reporter) -> None:
+    if names:
+        reporter.error("these requirements are not met: " + "; ".join(names))
+        raise typer.Exit(code=EXIT_UNMET)
+
+
+def evaluate(
+    ctx: typer.Context,
+    design_file: Path = DESIGN_FILE,
+    json_out: Optional[Path] = typer.Option(None, "--json", help="Write the evaluation as JSON here."),
+):
+    """Evaluate a spec at its initial design (each variable's 'initial', each catalog's first
+    option); exit 3 when a requirement is not met."""
+    from diffsense.design.record import design_record
+
+    reporter = reporter_from(ctx)
+    model = load_model(design_file, reporter)
+    with reporter.step("evaluating the initial design"):
+        record = design_record(model, model.initial, 0)
+    record["converged"] = None
+    print_record(record, reporter, title_prefix="Evaluation: ")
+    write_json(record, json_out, reporter)
+    _fail_if_unmet(unmet(record), reporter)
+
+
+def optimize(
+    ctx: typer.Context,
+    design_file: Path = DESIGN_FILE,
+    json_out: Optional[Path] = typer.Option(None, "--json", help="Write the optimised design as JSON here."),
+    starts: int = typer.Option(8, min=1, help="Starts per catalog combination (the spec's initial design + Latin hypercube)."),
+    seed: int = typer.Option(0, help="Seed of the multi-start design."),
+):
+    """Optimise a spec: the best design meeting every requirement (exit 3 when none can)."""
+    from diffsense.design.optimizer import optimize_design
+    from diffsense.design.record import design_record
+
+    reporter = reporter_from(ctx)
+    t0 = time.perf_counter()
+    model = load_model(design_file, reporter)
+    lanes = len(model.combinations) * starts
+    with reporter.step(f"compiling and solving {lanes} lanes "
+                       f"({len(model.combinations)} catalog combinations x {starts} starts)"):
+        result = optimize_design(model, n_starts=starts, seed=seed)
+    with reporter.step("re-evaluating the optimum"):
+        record = design_record(model, result.x, result.combo_index)
+    record["converged"] = result.converged
+    record["feasible"] = result.feasible
+    record["multistart"] = {"starts": result.starts, "converged": result.starts_converged,
+                            "reached_best": result.starts_at_best}
+    record["candidates"] = result.candidates
+    for row, lam in zip(record["requirements"], result.multipliers):
+        row["multiplier"] = float(lam)
+    record["solve_time_s"] = time.perf_counter() - t0
+    print_record(record, reporter, title_prefix="Optimum: " if result.feasible else "Best compromise: ")
+    reporter.info(f"converged: {result.converged}; starts reaching the best: {result.starts_at_best}/{result.starts}; "
+                  f"time {record['solve_time_s']:.1f} s")
+    write_json(record, json_out, reporter)
+    if not result.feasible:
+        reporter.error("infeasible: these requirements cannot be met together within the bounds: "
+                       + "; ".join(result.unmet))
+        raise typer.Exit(code=EXIT_UNMET)
+
+
+def report(
+    ctx: typer.Context,
+    design_file: Path = DESIGN_FILE,
+    out: Path = typer.Option(..., "--out", help="Directory for report.md, report.html, report.json and figures/."),
+    no_optimize: bool = typer.Option(False, "--no-optimize", help="Report the spec's initial design instead of the optimum."),
+    starts: int = typer.Option(8, min=1, help="Starts per catalog combination when optimising."),
+    seed: int = typer.Option(0, help="Seed of the multi-start design."),
+):
+    """Write a design report: budgets, detection plots, elasticities and post-optimal
+    sensitivities (exit 2 on an invalid spec, 3 when the design leaves a requirement unmet)."""
+    from diffsense.errors import SpecError
+    from diffsense.report import build_report
+
+    reporter = reporter_from(ctx)
+    try:
+        with reporter.step(f"{'optimising and ' if not no_optimize else ''}writing the report of {design_file}"):
+            record = build_report(design_file, out, optimize=not no_optimize, n_starts=starts, seed=seed)
+    except SpecError as exc:
+        reporter.error(str(exc))
+        raise typer.Exit(code=EXIT_BAD_INPUT)
+    for kind in ("md", "html", "json"):
+        reporter.info(f"wrote {record['files'][kind]}")
+    reporter.info(f"figures: {len(record['figures'])} in {out / 'figures'}")
+    for item in record["unavailable"]:
+        reporter.warn("not available", f"{item['section']}: {item['reason']}")
+    for item in record["skipped_figures"]:
+        reporter.warn("figure skipped", f"{item['figure']}: {item['reason']}")
+    if not record["feasible"]:
+        what = "the initial design leaves these requirements unmet" if no_optimize else \
+            "infeasible: these requirements cannot be met together within the bounds"
+        reporter.error(f"{what}: " + "; ".join(unmet(record)))
+        raise typer.Exit(code=EXIT_UNMET)

@@ -1,0 +1,128 @@
+"""What the command line prints: one error line, progress on stderr, tables, JSON files.
+
+Rules: results go to standard output, errors and progress to standard error; text the user gave
+(file names, keys, values) is never read as markup and is shortened before it is echoed; every
+error is one line starting ``error:``; progress is shown only on a terminal and never under
+``--quiet``; JSON written holds no NaN or Infinity (a non-finite value is written as ``null``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import math
+from pathlib import Path
+from typing import Iterator, Optional
+
+from rich.console import Console
+from rich.table import Table
+from rich.text import Text
+
+#: the longest piece of user text echoed in a message (characters)
+MAX_ECHO = 160
+#: exit codes: bad input, and a well-formed design that leaves a requirement unmet
+EXIT_BAD_INPUT = 2
+EXIT_UNMET = 3
+
+
+def clip(text: object, limit: int = MAX_ECHO) -> str:
+    """``text`` as one line of at most ``limit`` characters (control characters shown escaped).
+
+    >>> clip("a" * 500, 20)
+    'aaaaaaaaaaaaaaaaa… (500 characters)'
+    >>> clip("line1\\nline2")
+    'line1\\\\nline2'
+    """
+    s = "".join(ch if ch.isprintable() else ch.encode("unicode_escape").decode() for ch in str(text))
+    if len(s) <= limit:
+        return s
+    return f"{s[:limit - 3]}… ({len(s)} characters)"
+
+
+def fmt(value: float) -> str:
+    """A number for a table: 4 significant decimals or scientific notation, never ``-0``.
+
+    >>> fmt(-0.0), fmt(1234.5678), fmt(2.5e-7), fmt(float("inf"))
+    ('0', '1234.6', '2.5e-07', 'inf')
+    """
+    if not math.isfinite(value):
+        return str(value)
+    a = abs(value)
+    if a != 0 and (a < 1e-3 or a >= 1e6):
+        out = f"{value:.4g}"
+    elif a < 1e3:
+        out = f"{value:.4f}".rstrip("0").rstrip(".")
+    else:
+        out = f"{value:.1f}"
+    return "0" if out in ("-0", "-0.0", "") else out
+
+
+def fmt_db(value: float) -> str:
+    """A signed dB value with two decimals, ``+0.00`` rather than ``-0.00``."""
+    out = f"{value:+.2f}"
+    return "+0.00" if out == "-0.00" else out
+
+
+class Reporter:
+    """The consoles of one command: results on stdout, errors and progress on stderr."""
+
+    def __init__(self, quiet: bool = False):
+        self.out = Console(markup=False, highlight=False, soft_wrap=False)
+        self.err = Console(stderr=True, markup=False, highlight=False, soft_wrap=True)
+        self.quiet = quiet
+
+    @property
+    def interactive(self) -> bool:
+        """Progress is shown: stderr is a terminal and ``--quiet`` was not given."""
+        return not self.quiet and self.err.is_terminal
+
+    def error(self, message: str) -> None:
+        """One line ``error: message`` on stderr (the message is not read as markup)."""
+        self.err.print(Text.assemble(("error:", "bold red"), " ", message))
+
+    def warn(self, label: str, message: str) -> None:
+        self.err.print(Text.assemble((f"{label}:", "yellow"), " ", message))
+
+    def info(self, message: str) -> None:
+        """A line of output (stdout): files written, summaries."""
+        self.out.print(Text(message))
+
+    @contextlib.contextmanager
+    def step(self, text: str) -> Iterator[None]:
+        """Show ``text`` with a spinner on stderr while the block runs (terminals only)."""
+        if not self.interactive:
+            yield
+            return
+        with self.err.status(Text(text), spinner="dots"):
+            yield
+
+    def table(self, title: str, columns, rows, right=()) -> None:
+        """Print a table; cells are plain text (never markup)."""
+        t = Table(title=title)
+        for c in columns:
+            t.add_column(c, justify="right" if c in right else "left")
+        for row in rows:
+            t.add_row(*(cell if isinstance(cell, Text) else Text(str(cell)) for cell in row))
+        self.out.print(t)
+
+
+def finite_json(value):
+    """``value`` with every non-finite float replaced by ``None`` (JSON ``null``)."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: finite_json(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [finite_json(v) for v in value]
+    return value
+
+
+def write_json(record: dict, path: Optional[Path], reporter: Reporter) -> None:
+    """Write ``record`` as strict JSON (no NaN/Infinity) to ``path`` (nothing when ``None``)."""
+    if path is None:
+        return
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(finite_json(record), indent=2, allow_nan=False))
+    reporter.info(f"wrote {path}")
+
+

@@ -1,0 +1,94 @@
+"""What a validated requirement spec holds: :class:`Spec` and its entries (:class:`Variable`,
+:class:`Choice`, :class:`Requirement`, :class:`Objective`).
+
+Every value is already converted to the unit of its chain parameter or output (SI, or dB where
+the chain's table says so); see :mod:`diffsense.design.spec` for the TOML format.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Dict, List, Tuple
+
+from diffsense.scene import Scene
+from diffsense.sensors.chain import Output, Param
+
+#: the senses of a requirement: the output must be at least / at most / equal to the limit
+SENSES = ("at_least", "at_most", "equals")
+#: the name of the one evaluation case of a spec without a ``[cases]`` table
+DEFAULT_CASE = "main"
+
+
+@dataclass(frozen=True)
+class Variable:
+    """A continuous or integer design variable (values in the parameter's unit)."""
+
+    name: str
+    unit: str
+    lower: float
+    upper: float
+    initial: float
+    log_scale: bool
+    integer: bool
+
+
+@dataclass(frozen=True)
+class Choice:
+    """A catalog choice: each option sets one or more parameters (and may carry a cost)."""
+
+    name: str
+    option_names: Tuple[str, ...]
+    settings: Tuple[Dict[str, float], ...]  # per option: parameter -> value
+    costs: Tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class Requirement:
+    """``output`` of ``case`` must be at least / at most / equal to ``limit`` (output unit)."""
+
+    name: str
+    case: str
+    output: str
+    sense: str
+    limit: float
+    unit: str
+
+
+@dataclass(frozen=True)
+class Objective:
+    """Weighted sum of terms (parameter, output or "cost"); ``sign`` +1 minimise, −1 maximise."""
+
+    terms: Tuple[Tuple[str, float], ...]
+    sign: float
+    text: str
+
+
+@dataclass
+class Spec:
+    """A validated requirement specification."""
+
+    path: Path
+    name: str
+    title: str
+    description: str
+    sensor: str
+    scenes: Dict[str, Scene]  # case -> scene
+    fixed: Dict[str, Dict[str, float]]  # case -> parameter -> value
+    variables: Dict[str, Variable]
+    choices: Dict[str, Choice]
+    requirements: List[Requirement]
+    objective: Objective
+    parameters: Dict[str, Dict[str, Param]] = field(default_factory=dict)  # case -> table
+    outputs: Dict[str, Dict[str, Output]] = field(default_factory=dict)  # case -> table
+
+    @property
+    def cases(self) -> List[str]:
+        return list(self.scenes)
+
+    def unit_of(self, case: str, name: str) -> str:
+        if name in self.parameters[case]:
+            return self.parameters[case][name].unit
+        if name in self.outputs[case]:
+            return self.outputs[case][name].unit
+        return "1"

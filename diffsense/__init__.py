@@ -31,7 +31,7 @@ if _os.environ.get("DIFFSENSE_X64", "1") != "0":
 __version__ = "0.1.0"
 
 __all__ = ["Scene", "evaluate", "load_spec", "DesignModel", "optimize_design", "build_report",
-           "DomainError", "SpecError", "UnitError", "__version__"]
+           "DomainError", "SpecError", "UnitError", "explore", "__version__"]
 
 
 def __getattr__(name):
@@ -44,6 +44,8 @@ def __getattr__(name):
         from diffsense.design import model as _m
     elif name == "optimize_design":
         from diffsense.design import optimizer as _m
+    elif name == "explore":
+        import diffsense.explore as _m
     elif name == "build_report":
         from diffsense import report as _m
     elif name in ("DomainError", "SpecError", "UnitError"):

@@ -44,7 +44,8 @@ from diffsense.sensors.structure import Scene
 from diffsense.sensors.ultrasonic import UltrasonicChain
 
 __all__ = ["Scene", "CHAINS", "sensor_kinds", "chain_for", "complete_parameters", "evaluate", "evaluator", "describe",
-           "parameter_table", "output_table"]
+           "parameter_table", "output_table", "number_text", "domain_text", "describe_command",
+           "unknown_name_hint"]
 
 CHAINS: Dict[str, Chain] = {chain.kind: chain for chain in (
     RadarChain(), LidarChain(), SonarChain(), RadiometerChain(), InfraredChain(), UltrasonicChain())}
@@ -129,6 +130,82 @@ def output_table(scene: Scene) -> Dict[str, Output]:
 
 
 
+def number_text(value) -> str:
+    """The shortest decimal text that reads back as the same float (no NumPy repr, no rounding
+    that would make a printed bound lie).
+
+    >>> number_text(1.0 - 1e-12), number_text(1e-300), number_text(2.0), number_text(0.1)
+    ('0.999999999999', '1e-300', '2', '0.1')
+    """
+    x = float(value)
+    if x != x or x in (float("inf"), float("-inf")):
+        return str(x)
+    for digits in range(6, 18):
+        text = f"{x:.{digits}g}"
+        if float(text) == x:
+            return text
+    return repr(x)
+
+
+def domain_text(p: Param) -> str:
+    """The documented domain of parameter ``p`` as an interval, its ends printed exactly.
+
+    >>> domain_text(Param("pd", "1", "", lo=0.0, hi=1.0 - 1e-12, lo_open=True))
+    '(0, 0.999999999999]'
+    """
+    lo = "-inf" if p.lo is None else number_text(p.lo)
+    hi = "inf" if p.hi is None else number_text(p.hi)
+    left = "(" if p.lo is None or p.lo_open else "["
+    right = ")" if p.hi is None or p.hi_open else "]"
+    return f"{left}{lo}, {hi}{right}"
+
+
+def describe_command(scene: Scene) -> str:
+    """The ``diffsense describe`` command line that lists what ``scene`` takes and gives.
+
+    >>> describe_command(Scene("radar", ["rain", "dust"], {"swerling": 1}))
+    'diffsense describe radar --parts dust,rain --option swerling=1'
+    """
+    text = f"diffsense describe {scene.sensor}"
+    if scene.parts:
+        text += " --parts " + ",".join(sorted(scene.parts))
+    for key, value in scene.options:
+        text += f" --option {key}={value}"
+    return text
+
+
+def unknown_name_hint(scene: Scene, name: str) -> str:
+    """Why ``name`` is not a parameter of ``scene``, when the chain knows better than a spelling
+    match: it is an output (computed, not set), a budget term set by a static option, or a
+    parameter of a part the scene does not hold. ``""`` when none applies.
+
+    >>> unknown_name_hint(Scene("radar"), "matched_filter_loss_db")
+    "'matched_filter_loss_db' is set by the static option matched_filter (here 'two_tuned', the default; one of 'matched', 'rectangular', 'gaussian', 'single_tuned', 'two_tuned', 'three_tuned', 'four_tuned', 'five_tuned'): choose the option under [options], not the value"
+    >>> unknown_name_hint(Scene("radar"), "rain_rate_mm_h")
+    "'rain_rate_mm_h' belongs to the part 'rain', which this scene does not hold (add it to parts)"
+    """
+    chain = chain_for(scene)
+    if name in chain.outputs(scene):
+        return f"'{name}' is an output of the {scene.sensor} chain (computed from the parameters); it cannot be set"
+    for option, (default, allowed) in chain.options.items():
+        if name == option or name.startswith(option + "_"):
+            current = scene.option(option, default)
+            how = "the default" if (option, current) not in scene.options else "set in the scene"
+            values = ", ".join(repr(v) for v in allowed)
+            return (f"'{name}' is set by the static option {option} (here {current!r}, {how}; one of "
+                    f"{values}): choose the option under [options], not the value")
+    for part in chain.parts:
+        if part in scene.parts:
+            continue
+        try:
+            table = chain.parameters(Scene(scene.sensor, sorted(scene.parts | {part}), dict(scene.options)))
+        except DomainError:
+            continue
+        if name in table:
+            return f"'{name}' belongs to the part '{part}', which this scene does not hold (add it to parts)"
+    return ""
+
+
 def describe(scene: Scene) -> dict:
     """What a scene takes and gives, as plain data: its sensor kind, every part the kind knows
     (with whether the scene holds it), every static option (default, allowed values, the value the
@@ -145,20 +222,13 @@ def describe(scene: Scene) -> dict:
     params = chain.parameters(scene)
     outputs = chain.outputs(scene)
 
-    def domain(p: Param) -> str:
-        lo = "-inf" if p.lo is None else f"{p.lo:g}"
-        hi = "inf" if p.hi is None else f"{p.hi:g}"
-        left = "(" if p.lo is None or p.lo_open else "["
-        right = ")" if p.hi is None or p.hi_open else "]"
-        return f"{left}{lo}, {hi}{right}"
-
     return {
         "sensor": scene.sensor,
         "description": chain.description,
         "parts": {name: {"description": text, "in_scene": scene.has(name)} for name, text in chain.parts.items()},
         "options": {name: {"default": default, "values": list(allowed), "value": scene.option(name, default)}
                     for name, (default, allowed) in chain.options.items()},
-        "parameters": {name: {"unit": p.unit, "default": p.default, "domain": domain(p), "part": p.part,
+        "parameters": {name: {"unit": p.unit, "default": p.default, "domain": domain_text(p), "part": p.part,
                               "integer": p.integer, "doc": p.doc} for name, p in params.items()},
         "outputs": {name: {"unit": o.unit, "doc": o.doc} for name, o in outputs.items()},
     }

@@ -23,8 +23,9 @@ ALLOWED = {
     "scene": {"sensors", "numerics", "errors"},
     "design": {"scene", "sensors", "optimize", "detection", "physics", "numerics", "errors"},
     "report": {"design", "scene", "sensors", "optimize", "detection", "physics", "numerics", "errors"},
+    "explore": {"report", "design", "scene", "sensors", "optimize", "detection", "physics", "numerics", "errors"},
     "__main__": {"cli"},
-    "cli": {"report", "design", "scene", "sensors", "optimize", "detection", "physics", "numerics", "errors"},
+    "cli": {"explore", "report", "design", "scene", "sensors", "optimize", "detection", "physics", "numerics", "errors"},
 }
 MAX_MODULE_LINES = 700
 MAX_FUNCTION_LINES = 150

@@ -105,11 +105,43 @@ def check_ore_pass_walkthrough(rec):
     assert rec["beam_limit_shadow_price_per_deg"] == pytest.approx(-10.0 * d_star / 1.1, rel=1e-4)
 
 
+def check_explore_ore_pass(rec):
+    # the explorer moved to the book's design: 94 GHz, 250 mm (book 8.16.9)
+    assert rec["freq_hz"] == 94e9 and rec["antenna_diameter_m"] == pytest.approx(0.25, rel=1e-12)
+    # book 8.16.9.1: G = 42,432 (46.2 dB; the book's lambda uses c = 3e8: 0.01 dB) and theta = 0.89 deg
+    assert rec["gain_db"] == pytest.approx(10 * math.log10(42432.0), abs=0.01)
+    assert rec["beamwidth_deg"] == pytest.approx(0.89, abs=0.005)
+    assert set(rec["statuses"]) <= {"met", "active", "unmet"}
+
+
+def check_uncertainty_air_surveillance(rec):
+    # lognormal RCS (s dB): the margin is normal in dB, so P[m >= 0] >= p is m_nom >= s Phi^-1(p), the
+    # shipped spec's closed form with the limit raised: P d^4 = C, d^5 = 4 a C, a P = d / 4 (clear air binding)
+    from statistics import NormalDist
+
+    s, p, a = rec["sigma_db"], rec["probability"], rec["cost_per_w"]
+    c = rec["initial_power_w"] * rec["initial_diameter_m"] ** 4 * 10 ** (
+        (s * NormalDist().inv_cdf(p) - rec["initial_clear_margin_db"]) / 10)
+    d_star = (4 * a * c) ** 0.2
+    assert rec["feasible"]
+    # smoothing bias and the design sample's error: 3.5e-5 in probability, 0.001 dB in the margin
+    assert rec["antenna_diameter_m"] == pytest.approx(d_star, rel=2e-4)
+    assert rec["peak_power_w"] == pytest.approx(d_star / (4 * a), rel=2e-4)
+    # the probability at the optimum (closed form) is the asked one
+    assert NormalDist().cdf(rec["clear_margin_at_optimum_db"] / s) == pytest.approx(p, abs=1e-4)
+    # the independent Monte Carlo (>= 1e5 draws) contains it; the heavy-rain case has 0.1 dB to spare
+    clear, rain = rec["mc_clear"], rec["mc_rain"]
+    assert clear["samples"] >= 100_000 and clear["lower"] <= p <= clear["upper"]
+    assert rain["estimate"] > p
+
+
 CHECKS = {
     "detection_explorer": check_detection_explorer,
     "sidescan_sonar_design": check_sidescan_sonar_design,
     "fire_control_trade_study": check_fire_control_trade_study,
     "ore_pass_walkthrough": check_ore_pass_walkthrough,
+    "uncertainty_air_surveillance": check_uncertainty_air_surveillance,
+    "explore_ore_pass": check_explore_ore_pass,
 }
 
 
@@ -118,6 +150,8 @@ CHECKS = {
     "sidescan_sonar_design",
     "fire_control_trade_study",
     pytest.param("ore_pass_walkthrough", marks=pytest.mark.slow),
+    "uncertainty_air_surveillance",
+    "explore_ore_pass",
 ])
 def test_notebook_runs_and_reproduces_independent_numbers(name):
     CHECKS[name](run_notebook(name))

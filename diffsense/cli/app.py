@@ -21,6 +21,8 @@ except ImportError:  # older typer runs on click itself
 from diffsense.cli.cmd_describe import describe
 from diffsense.cli.cmd_design import evaluate, optimize, report
 from diffsense.cli.cmd_detection import detection
+from diffsense.cli.cmd_explore import explore
+from diffsense.cli.cmd_trade import trade
 from diffsense.cli.output import EXIT_BAD_INPUT, Reporter, clip
 from diffsense.cli.state import RunState
 
@@ -28,7 +30,7 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, rich_markup_mode=N
                   pretty_exceptions_enable=False,
                   help="diffsense: differentiable sensor design. Run 'diffsense COMMAND --help' for a command.")
 
-for command in (optimize, evaluate, report, describe, detection):
+for command in (optimize, evaluate, report, describe, detection, trade, explore):
     app.command()(command)
 
 

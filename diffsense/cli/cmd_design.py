@@ -9,7 +9,7 @@ from typing import Optional
 
 import typer
 
-from diffsense.cli.output import EXIT_BAD_INPUT, EXIT_UNMET, Reporter, write_json
+from diffsense.cli.output import EXIT_BAD_INPUT, EXIT_UNMET, Reporter, clip, write_json
 from diffsense.cli.records import print_record, unmet
 from diffsense.cli.state import reporter_from
 
@@ -17,19 +17,37 @@ DESIGN_FILE = typer.Argument(..., help="Requirement spec (TOML), e.g. designs/or
 
 
 def load_model(design_file: Path, reporter: Reporter):
-    """Read, validate and model a spec; on an invalid spec print one error line and exit 2."""
+    """Read, validate and model a spec; on an invalid spec print one error line and exit 2.
+
+    Besides each key's own checks, the chain is evaluated once at the initial design and the
+    corners of the box (:func:`diffsense.design.spec.evaluable.check_evaluable`), so that values
+    the chain rejects together, or cannot evaluate to a finite answer, are reported here."""
     from diffsense.design.model import DesignModel
     from diffsense.design.spec import load_spec
+    from diffsense.design.spec.evaluable import check_evaluable
     from diffsense.errors import SpecError
 
     try:
-        with reporter.step(f"reading {design_file}"):
+        with reporter.step(f"reading {clip(design_file)}"):
             spec = load_spec(design_file)
+        with reporter.step("compiling the chain and checking it at the initial design and the box corners"):
+            check_evaluable(spec)
         with reporter.step("building the design model"):
             return DesignModel(spec)
     except SpecError as exc:
         reporter.error(str(exc))
         raise typer.Exit(code=EXIT_BAD_INPUT)
+
+
+def check_probabilities(model, record: dict, x, combo_index: int, reporter: Reporter) -> None:
+    """Add each requirement's probability of being met under the spec's ``[uncertain]`` inputs,
+    from an independent Monte Carlo sample (:mod:`diffsense.design.monte_carlo`), to ``record``."""
+    if model.spec.uncertain is None:
+        return
+    from diffsense.design.monte_carlo import attach_probabilities
+
+    with reporter.step(f"checking probabilities with {model.spec.uncertain.check_samples} Monte Carlo draws"):
+        attach_probabilities(model, record, x, combo_index)
 
 
 def _fail_if_unmet(names, reporter: Reporter) -> None:
@@ -49,8 +67,9 @@ def evaluate(
 
     reporter = reporter_from(ctx)
     model = load_model(design_file, reporter)
-    with reporter.step("evaluating the initial design"):
+    with reporter.step(f"evaluating the initial design ({len(model.requirements)} requirements)"):
         record = design_record(model, model.initial, 0)
+    check_probabilities(model, record, model.initial, 0, reporter)
     record["converged"] = None
     print_record(record, reporter, title_prefix="Evaluation: ")
     write_json(record, json_out, reporter)
@@ -77,17 +96,23 @@ def optimize(
         result = optimize_design(model, n_starts=starts, seed=seed)
     with reporter.step("re-evaluating the optimum"):
         record = design_record(model, result.x, result.combo_index)
+    check_probabilities(model, record, result.x, result.combo_index, reporter)
     record["converged"] = result.converged
     record["feasible"] = result.feasible
     record["multistart"] = {"starts": result.starts, "converged": result.starts_converged,
                             "reached_best": result.starts_at_best}
     record["candidates"] = result.candidates
+    record["canonical"] = result.canonical
     for row, lam in zip(record["requirements"], result.multipliers):
         row["multiplier"] = float(lam)
     record["solve_time_s"] = time.perf_counter() - t0
     print_record(record, reporter, title_prefix="Optimum: " if result.feasible else "Best compromise: ")
     reporter.info(f"converged: {result.converged}; starts reaching the best: {result.starts_at_best}/{result.starts}; "
                   f"time {record['solve_time_s']:.1f} s")
+    if result.canonical:
+        c = result.canonical
+        reporter.info(f"{c['rule']}: {c['flat_directions']} flat direction(s); smallest such slack "
+                      f"{c['smallest_slack_before']:.4g} -> {c['smallest_slack_after']:.4g} (scaled)")
     write_json(record, json_out, reporter)
     if not result.feasible:
         reporter.error("infeasible: these requirements cannot be met together within the bounds: "
@@ -109,8 +134,9 @@ def report(
     from diffsense.report import build_report
 
     reporter = reporter_from(ctx)
+    load_model(design_file, reporter)  # exit 2 here, with the CLI's checks, on an invalid spec
     try:
-        with reporter.step(f"{'optimising and ' if not no_optimize else ''}writing the report of {design_file}"):
+        with reporter.step(f"{'optimising and ' if not no_optimize else ''}writing the report of {clip(design_file)}"):
             record = build_report(design_file, out, optimize=not no_optimize, n_starts=starts, seed=seed)
     except SpecError as exc:
         reporter.error(str(exc))

@@ -20,6 +20,8 @@ from rich.text import Text
 
 #: the longest piece of user text echoed in a message (characters)
 MAX_ECHO = 160
+#: the longest error line (characters): one message naming the file, the key and the problem
+MAX_ERROR = 1000
 #: exit codes: bad input, and a well-formed design that leaves a requirement unmet
 EXIT_BAD_INPUT = 2
 EXIT_UNMET = 3
@@ -77,11 +79,12 @@ class Reporter:
         return not self.quiet and self.err.is_terminal
 
     def error(self, message: str) -> None:
-        """One line ``error: message`` on stderr (the message is not read as markup)."""
-        self.err.print(Text.assemble(("error:", "bold red"), " ", message))
+        """One line ``error: message`` on stderr: never read as markup, control characters
+        escaped, at most :data:`MAX_ERROR` characters."""
+        self.err.print(Text.assemble(("error:", "bold red"), " ", clip(message, MAX_ERROR)))
 
     def warn(self, label: str, message: str) -> None:
-        self.err.print(Text.assemble((f"{label}:", "yellow"), " ", message))
+        self.err.print(Text.assemble((f"{label}:", "yellow"), " ", clip(message, MAX_ERROR)))
 
     def info(self, message: str) -> None:
         """A line of output (stdout): files written, summaries."""

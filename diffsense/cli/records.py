@@ -18,24 +18,72 @@ def print_design(record: dict, reporter: Reporter) -> None:
     reporter.table("Design", ("parameter", "value", "unit", "kind"), rows, right=("value",))
 
 
+def term_label(term: str, sensor: str, options: dict) -> str:
+    """A budget term's name, with the static option that sets it and whether that option was
+    left at its default, so that a default that changes the answer is visible.
+
+    >>> term_label("matched_filter_loss_db", "radar", {})
+    'matched_filter_loss_db (matched_filter = two_tuned, the default)'
+    >>> term_label("matched_filter_loss_db", "radar", {"matched_filter": "gaussian"})
+    'matched_filter_loss_db (matched_filter = gaussian)'
+    """
+    from diffsense.scene import CHAINS
+
+    for option, (default, _) in (CHAINS[sensor].options.items() if sensor in CHAINS else ()):
+        if term.startswith(option + "_"):
+            if option in options:
+                return f"{term} ({option} = {options[option]})"
+            return f"{term} ({option} = {default}, the default)"
+    return term
+
+
 def print_budgets(record: dict, reporter: Reporter) -> None:
     for case, c in record["cases"].items():
         if not c["budget"]:
             continue
-        rows = [(row["term"], fmt_db(row["db"])) for row in c["budget"]]
+        options = c.get("options", {})
+        rows = [(term_label(row["term"], record["sensor"], options), fmt_db(row["db"])) for row in c["budget"]]
         total = sum(row["db"] for row in c["budget"])
         rows.append((Text("total", style="bold"), Text(fmt_db(total), style="bold")))
         reporter.table(f"Link budget ({case})", ("term", "dB"), rows, right=("dB",))
+
+
+def worst_point_text(row: dict) -> str:
+    """`` (worst at range_m = 11968.2 m; 10001 points re-checked)`` for a requirement over an
+    interval, ``""`` otherwise."""
+    if "worst_at" not in row:
+        return ""
+    where = ", ".join(f"{k} = {fmt(v)} {row['over'][k][2]}" for k, v in row["worst_at"].items())
+    return f" (worst at {where}; {row['dense_points']} points re-checked)"
 
 
 def print_requirements(record: dict, reporter: Reporter) -> None:
     rows = []
     for row in record["requirements"]:
         met = Text("yes", style="green") if row["met"] else Text("NO", style="bold red")
-        rows.append((row["name"], fmt(row["value"]), f"{_SENSE[row['sense']]} {fmt(row['limit'])}", row["unit"],
-                     fmt(row["slack"]), met))
+        rows.append((row["name"] + worst_point_text(row), fmt(row["value"]),
+                     f"{_SENSE[row['sense']]} {fmt(row['limit'])}", row["unit"], fmt(row["slack"]), met))
     reporter.table("Requirements", ("requirement", "value", "limit", "unit", "slack", "met"), rows,
                    right=("value", "limit", "slack"))
+
+
+def print_probabilities(record: dict, reporter: Reporter) -> None:
+    """Each requirement's probability of being met under the declared uncertainty, with its
+    interval (rows that carry a Monte Carlo ``probability`` check)."""
+    rows = []
+    for row in record["requirements"]:
+        chk = row.get("probability")
+        if chk is None:
+            continue
+        asked = "" if chk["asked"] is None else f">= {chk['asked']:g}"
+        lo, hi = chk["interval"]
+        rows.append((row["name"], asked, f"{chk['estimate']:.5f}", f"[{lo:.5f}, {hi:.5f}]", str(chk["samples"]),
+                     chk["status"] or ""))
+    if rows:
+        conf = next(r["probability"]["confidence"] for r in record["requirements"] if r.get("probability"))
+        reporter.table(f"Probability met under the declared uncertainty (Monte Carlo, {conf:g} Wilson interval)",
+                       ("requirement", "asked", "probability", "interval", "draws", "check"), rows,
+                       right=("probability",))
 
 
 def print_record(record: dict, reporter: Reporter, *, title_prefix: str = "") -> None:
@@ -44,6 +92,7 @@ def print_record(record: dict, reporter: Reporter, *, title_prefix: str = "") ->
     print_design(record, reporter)
     print_budgets(record, reporter)
     print_requirements(record, reporter)
+    print_probabilities(record, reporter)
     reporter.info(f"objective: {record['objective']['text']} = {fmt(record['objective']['value'])}")
 
 

@@ -31,6 +31,8 @@ import numpy as np
 
 from diffsense.sensors.chain import Evaluation
 from diffsense.scene import complete_parameters, chain_for
+from diffsense.design.chance import ChanceRequirements
+from diffsense.design.intervals import IntervalRequirements
 from diffsense.design.spec import Spec
 
 # units in which a difference of 1 is a natural step (no normalisation by the limit)
@@ -90,6 +92,15 @@ class DesignModel:
                                 for r in self.requirements], dtype=float)
         self.is_equality = np.array([r.sense == "equals" for r in self.requirements], dtype=bool)
         self.sign = np.array([-1.0 if r.sense == "at_least" else 1.0 for r in self.requirements], dtype=float)
+        # requirements over intervals (semi-infinite): one constraint row per worst point kept
+        self.intervals = IntervalRequirements(spec, self.parameters, self.sign, self.scales)
+        # requirements with a probability (chance constraints): one row each, a smoothed quantile
+        self.chance = ChanceRequirements(spec, self.parameters, self.sign, self.scales)
+        #: the requirement each constraint row of :meth:`residuals` belongs to
+        self.row_owner = np.concatenate([np.full(r.over_worst if r.over else 1, j, dtype=int)
+                                         for j, r in enumerate(self.requirements)]) if self.requirements \
+            else np.zeros((0,), dtype=int)
+        self.row_is_equality = self.is_equality[self.row_owner]
 
         # fixed parameters per case, completed with defaults (validated once, concretely)
         self.fixed = {}
@@ -108,7 +119,7 @@ class DesignModel:
                                 if k not in self.variable_names and k not in self.combo_params}
         # outputs read per case (case -> frozenset of output names): by the requirements, by the objective
         self.requirement_outputs: Dict[str, FrozenSet[str]] = self._outputs_by_case(
-            (r.case, r.output) for r in self.requirements)
+            (r.case, r.output) for r in self.requirements if not r.over)
         # objective terms resolved once: (source, case, name, weight), source one of "cost",
         # "variable", "combo", "output", "fixed"
         self._objective_terms = [self._objective_term(name) + (weight,) for name, weight in spec.objective.terms]
@@ -129,7 +140,7 @@ class DesignModel:
                 out.setdefault(pair[0], set()).add(pair[1])
         return {case: frozenset(names) for case, names in out.items()}
 
-    def _objective_term(self, name):
+    def objective_term(self, name):
         """``(source, case, base)`` of the objective term ``name``: the catalog "cost", a design
         "variable", a catalog ("combo") parameter, a chain "output" or a "fixed" parameter of
         ``case`` (the first case when ``name`` names none)."""
@@ -143,6 +154,8 @@ class DesignModel:
         if base in self.spec.outputs[case]:
             return "output", case, base
         return "fixed", case, base
+
+    _objective_term = objective_term  # former private name
 
     # --- evaluation --------------------------------------------------------------------------
     def parameters(self, x, combo) -> Dict[str, Dict[str, jnp.ndarray]]:
@@ -176,16 +189,41 @@ class DesignModel:
             res[case] = chain.compute(scene, p) if wanted is None else chain.compute(scene, p, wanted=wanted[case])
         return res
 
-    def requirement_values(self, x, combo, evaluations=None) -> jnp.ndarray:
+    def requirement_values(self, x, combo, evaluations=None, parameters=None) -> jnp.ndarray:
         """The requirement outputs (their own units), in spec order; without ``evaluations`` the
-        cases are evaluated for :attr:`requirement_outputs` only."""
+        cases are evaluated for :attr:`requirement_outputs` only. A requirement over an interval
+        gives its worst value found by the search (:mod:`diffsense.design.intervals`);
+        ``parameters`` (per case) replaces :meth:`parameters` for that search."""
         ev = self.evaluate(x, combo, self.requirement_outputs) if evaluations is None else evaluations
-        return jnp.stack([jnp.asarray(ev[r.case].values[r.output], dtype=float) for r in self.requirements])
+        worst = self.intervals.worst_values(x, combo, parameters) if self.intervals.indices else {}
+        chance = self.chance.values(x, combo, parameters) if self.chance.indices else {}
+        return jnp.stack([worst[j] if r.over else chance[j] if j in chance
+                          else jnp.asarray(ev[r.case].values[r.output], dtype=float)
+                          for j, r in enumerate(self.requirements)])
 
     def residuals(self, x, combo, limits) -> jnp.ndarray:
-        """Normalised residuals: ≤ 0 when an inequality is met, = 0 when an equality is met."""
-        values = self.requirement_values(x, combo)
-        return self.sign * (values - limits) / self.scales
+        """Normalised residuals, one row per point requirement and ``over_worst`` rows per
+        interval requirement (:attr:`row_owner`): ≤ 0 when an inequality is met, = 0 when an
+        equality is met."""
+        ev = self.evaluate(x, combo, self.requirement_outputs) if self.requirement_outputs else {}
+        rows = self.intervals.rows(x, combo, limits) if self.intervals.indices else {}
+        chance = self.chance.rows(x, combo, limits) if self.chance.indices else {}
+        out = []
+        for j, r in enumerate(self.requirements):
+            if r.over:
+                out.append(rows[j])
+            elif j in chance:
+                out.append(chance[j])
+            else:
+                v = jnp.asarray(ev[r.case].values[r.output], dtype=float)
+                out.append(jnp.reshape(self.sign[j] * (v - limits[j]) / self.scales[j], (1,)))
+        return jnp.concatenate(out)
+
+    def row_multipliers(self, row_lam) -> np.ndarray:
+        """Per requirement, the sum of the multipliers of its constraint rows."""
+        out = np.zeros(len(self.requirements))
+        np.add.at(out, self.row_owner, np.asarray(row_lam, dtype=float))
+        return out
 
     def raw_objective(self, x, combo, evaluations=None) -> jnp.ndarray:
         """Objective in the spec's own terms (weighted sum; maximisation negated); without
@@ -220,6 +258,10 @@ class DesignModel:
             self._evaluate_all = jax.jit(run)
         return self._evaluate_all
 
+    def forget_compiled(self) -> None:
+        """Drop the compiled evaluation (after the interval search's candidates changed)."""
+        self._evaluate_all = None
+
     def compile_evaluation(self) -> None:
         """Trace and compile :meth:`evaluate_all` now (later calls reuse the program); lets a
         caller compile it while another thread compiles something else."""
@@ -234,23 +276,40 @@ class DesignModel:
         return self._evaluate_all_jit()(jnp.asarray(x, dtype=float), jnp.asarray(combo, dtype=float))
 
     def requirement_report(self, x, combo, tol: float = 1e-9) -> List[dict]:
-        """Requirement rows {name, output, case, value, limit, unit, sense, met, slack}."""
-        return self.requirement_rows(self.evaluate_all(x, combo)[1], tol)
+        """Requirement rows {name, output, case, value, limit, unit, sense, met, slack}; an
+        interval requirement's value is its worst value on the dense re-check."""
+        values = self.evaluate_all(x, combo)[1]
+        checks = self.intervals.check(x, combo, np.asarray(values)) if self.intervals.indices else {}
+        return self.requirement_rows(values, tol, checks)
 
-    def requirement_rows(self, values, tol: float = 1e-9) -> List[dict]:
+    def requirement_rows(self, values, tol: float = 1e-9, checks=None) -> List[dict]:
         """Requirement rows for given requirement output ``values`` (spec order, their units):
-        slack ≥ 0 when met; "met" allows ``tol`` in scaled units."""
+        slack ≥ 0 when met; "met" allows ``tol`` in scaled units. ``checks``: the dense re-checks
+        of the interval requirements (:meth:`IntervalRequirements.check`): their worst value
+        replaces the search's, and the row gains ``over``, ``worst_at``, ``dense_points``,
+        ``search_value`` and (one parameter) ``curve``."""
         rows = []
-        for r, v, scale in zip(self.requirements, np.asarray(values, dtype=float), self.scales):
+        values = np.asarray(values, dtype=float).copy()
+        checks = checks or {}
+        for j, chk in checks.items():
+            values[j] = chk.worst_value
+        for j, (r, v, scale) in enumerate(zip(self.requirements, values, self.scales)):
             if r.sense == "at_least":
                 slack = v - r.limit
             elif r.sense == "at_most":
                 slack = r.limit - v
             else:
                 slack = -abs(v - r.limit)
-            rows.append({"name": r.name, "case": r.case, "output": r.output, "value": float(v),
-                         "limit": r.limit, "unit": r.unit, "sense": r.sense,
-                         "met": bool(slack >= -tol * scale), "slack": float(slack)})
+            row = {"name": r.name, "case": r.case, "output": r.output, "value": float(v),
+                   "limit": r.limit, "unit": r.unit, "sense": r.sense,
+                   "met": bool(slack >= -tol * scale), "slack": float(slack)}
+            if r.over:
+                row["over"] = {iv.parameter: [iv.lower, iv.upper, iv.unit] for iv in r.over}
+                if j in checks:
+                    chk = checks[j]
+                    row.update(worst_at=chk.worst_point, dense_points=chk.n_points,
+                               search_value=chk.solver_worst_value, curve=chk.curve)
+            rows.append(row)
         return rows
 
     def combo_index(self, options: Dict[str, str]) -> int:

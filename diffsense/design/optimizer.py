@@ -21,6 +21,12 @@ Steps (all catalog combinations and all starts run in one compiled call each):
 4. **Choice.** The feasible combination with the lowest objective wins. When no combination is
    feasible the least-infeasible answer is returned with ``feasible`` False and the
    requirements it leaves unmet.
+5. **Canonical point.** When the optimum is not unique (flat directions of the optimal set),
+   the most robust design of the optimal set is returned instead of an arbitrary one
+   (:mod:`diffsense.design.canonical`), and ``canonical`` says so.
+
+Requirements over intervals (:mod:`diffsense.design.intervals`) add step 3b, the exchange
+method: a worse point found by the dense re-check joins the search and the answers are re-solved.
 
 **Lanes.** Every (start, combination) pair is one lane of :mod:`diffsense.optimize.lanes`: θ
 carries the catalog row and the requirement limits, the box pins the integers in step 2, and
@@ -46,9 +52,11 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from diffsense.design.canonical import canonical_optimum
 from diffsense.design.model import DesignModel
 from diffsense.optimize import Problem, SolverOptions
 from diffsense.optimize.compile import jit_with_options
+from diffsense.optimize.distributed import solve_across_processes
 from diffsense.optimize.integer import integer_neighbours
 from diffsense.optimize.lanes import Lanes, best_per_group, lane_program, pin_variables, solve_in_batches
 from diffsense.optimize.lanes import lane_grid as grid_of_lanes
@@ -70,6 +78,7 @@ class DesignOptimum:
     starts_at_best: int
     unmet: List[str]
     candidates: List[dict]  # per combination: options, objective, feasible
+    canonical: Optional[dict] = None  # the second stage's choice when the optimum is not unique
 
 
 def build_problem(model: DesignModel) -> Problem:
@@ -82,13 +91,15 @@ def build_problem(model: DesignModel) -> Problem:
     its integers through the box instead (its lanes take the box as an argument) and leaves the
     mask False.
     """
-    ineq = ~model.is_equality
-    eq = model.is_equality
+    ineq = ~model.row_is_equality
+    eq = model.row_is_equality
     # jitted once: the solver calls these from several places (the inner solve, the outer
     # linearisation, the problem's size check); JAX traces a jitted function once per signature
     # and reuses it at every call site, which shortens the time to trace the solve
-    residuals = jax.jit(model.residuals)
-    objective_fn = jax.jit(model.objective)
+    # (fresh closures, not the bound methods: JAX caches traces by function, and a model's
+    # interval search gains candidates between solves, see _exchange)
+    residuals = jax.jit(lambda x, combo, limits: model.residuals(x, combo, limits))
+    objective_fn = jax.jit(lambda x, combo: model.objective(x, combo))
 
     def full(x, theta):
         return jnp.where(theta[3], theta[2], x)
@@ -107,9 +118,15 @@ def build_problem(model: DesignModel) -> Problem:
                    names=list(model.variable_names))
 
 
-def _tight_limits(model: DesignModel, margin: float) -> np.ndarray:
-    # move each inequality limit inward by margin (in scaled units): at_least up, at_most down
+def tight_limits(model: DesignModel, margin: float) -> np.ndarray:
+    """The requirement limits with each inequality moved inward by ``margin`` (scaled units:
+    ``margin`` × the requirement's scale): an at_least limit up, an at_most limit down, an
+    equality unchanged; the limits the solver is given so that a converged design meets the
+    requirements with that margin to spare."""
     return model.limits - model.sign * margin * model.scales * (~model.is_equality)
+
+
+_tight_limits = tight_limits  # former private name
 
 
 def _scaled_misses(model: DesignModel, report) -> np.ndarray:
@@ -177,7 +194,9 @@ def _starts(model: DesignModel, problem: Problem, n_starts: int, seed: int) -> n
 def _relax(model: DesignModel, solver, starts, limits):
     """Step 1: every (start, combination) lane; returns (lanes, results, answers per combination)."""
     lanes = _grid(model, starts, limits)
-    res = solve_in_batches(solver, lanes.x0.shape[0], *_columns(lanes), alongside=model.compile_evaluation)
+    # split across processes when jax.distributed is initialised (diffsense.optimize.distributed);
+    # with one process this is solve_in_batches in one call of every lane
+    res = solve_across_processes(solver, None, *_columns(lanes), alongside=model.compile_evaluation)
     rows, _ = best_per_group(res, lanes.group, len(model.combinations))
     return lanes, res, _Answers(res.x[rows].copy(), res.converged[rows].copy(), res.lam[rows].copy())
 
@@ -218,6 +237,50 @@ def _resolve_near_misses(model: DesignModel, solver, batch: int, limits, best: _
     return _Answers(x, conv, lam), reports
 
 
+def _missed_points(model: DesignModel, reports) -> dict:
+    """Exchange candidates: per interval requirement whose dense re-check (in any combination's
+    report) found a value worse than the solver's own search by more than 1e-9 (scaled), the
+    point where it lies."""
+    found = {}
+    for rep in reports:
+        for j, row in enumerate(rep):
+            if "search_value" not in row:
+                continue
+            worse = model.sign[j] * (row["value"] - row["search_value"]) / model.scales[j]
+            if worse > 1e-9:
+                found.setdefault(j, []).append([row["worst_at"][iv.parameter] for iv in model.requirements[j].over])
+    return {j: np.asarray(pts) for j, pts in found.items()}
+
+
+def _exchange(model: DesignModel, options, lockstep, batch: int, limits, best: _Answers, reports, rounds: int = 2):
+    """Step 3b (exchange method for the interval requirements; Hettich & Kortanek 1993 §7): when
+    the dense re-check finds a worse point than the solver's search, that point joins the search's
+    candidates and every combination is re-solved from its answer, integers pinned; a re-solve is
+    kept if it misses less."""
+    for _ in range(rounds):
+        missed = _missed_points(model, reports)
+        if not missed:
+            break
+        for j, pts in missed.items():
+            for q in pts:
+                model.intervals.add_candidates({j: q})
+        model.forget_compiled()
+        solver = lane_solver(build_problem(model), options, lockstep)
+        n = best.x.shape[0]
+        lower, upper = pin_variables(model.lower, model.upper, best.x, model.integer)
+        res = solve_in_batches(solver, batch, *_columns(_lanes(model, best.x, np.arange(n), limits, lower, upper)))
+        x, conv, lam = best.x.copy(), best.converged.copy(), best.lam.copy()
+        for c in range(n):
+            rep = model.requirement_report(res.x[c], model.combo_table[c])
+            if _scaled_misses(model, rep).sum() <= _scaled_misses(model, reports[c]).sum():
+                x[c], reports[c], conv[c], lam[c] = res.x[c], rep, res.converged[c], res.lam[c]
+            else:
+                reports[c] = model.requirement_report(x[c], model.combo_table[c])
+        best = _Answers(x, conv, lam)
+        best, reports = _resolve_near_misses(model, solver, batch, limits, best)
+    return best, reports
+
+
 def _start_statistics(relaxed, lanes: Lanes, combo: int):
     """(starts converged, starts at the best objective) of one combination's relaxed lanes."""
     mine = lanes.group == combo
@@ -240,8 +303,9 @@ def _choose(model: DesignModel, best: _Answers, reports, relaxed, lanes: Lanes, 
     else:
         k = int(np.argmin([_scaled_misses(model, rep).sum() for rep in reports]))
     converged, at_best = _start_statistics(relaxed, lanes, k)
-    full_lam = np.zeros(len(model.requirements))
-    full_lam[~model.is_equality] = best.lam[k][: int((~model.is_equality).sum())]
+    row_lam = np.zeros(model.row_owner.size)
+    row_lam[~model.row_is_equality] = best.lam[k][: int((~model.row_is_equality).sum())]
+    full_lam = model.row_multipliers(row_lam)
     sign = model.spec.objective.sign
     candidates = [{"options": model.combinations[c].options, "objective": float(raw_obj[c] * sign),
                    "feasible": bool(met[c])} for c in range(n_combo)]
@@ -254,8 +318,11 @@ def _choose(model: DesignModel, best: _Answers, reports, relaxed, lanes: Lanes, 
 
 def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, margin: float = 1e-7,
                     options: Optional[SolverOptions] = None,
-                    lockstep: Union[int, str, None] = "auto") -> DesignOptimum:
+                    lockstep: Union[int, str, None] = "auto", canonical: bool = True) -> DesignOptimum:
     """Optimise ``model`` (see the module docstring). Deterministic for a given ``seed``.
+
+    ``canonical``: when the optimum is not unique, move to the most robust point of the optimal
+    set (:mod:`diffsense.design.canonical`; step 5) and record the rule in ``canonical``.
 
     ``lockstep``: lanes per vmap (module docstring): "auto" picks by backend, None puts every
     lane of a step in one vmap, a positive count must divide the number of lanes."""
@@ -267,4 +334,14 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
     batch = lanes.x0.shape[0]
     best = _round_integers(model, problem, solver, batch, limits, best)
     best, reports = _resolve_near_misses(model, solver, batch, limits, best)
-    return _choose(model, best, reports, relaxed, lanes, starts.shape[0])
+    if model.intervals.indices:
+        best, reports = _exchange(model, options or SolverOptions(polish=False), lockstep, batch, limits, best, reports)
+    optimum = _choose(model, best, reports, relaxed, lanes, starts.shape[0])
+    if canonical and optimum.feasible:
+        chosen = canonical_optimum(model, optimum.x, optimum.combo_index, options)
+        if chosen is not None:
+            optimum.x = chosen.x
+            optimum.canonical = {"rule": chosen.rule, "flat_directions": chosen.flat_directions,
+                                 "smallest_slack_before": chosen.smallest_slack_before,
+                                 "smallest_slack_after": chosen.smallest_slack_after}
+    return optimum

@@ -36,12 +36,31 @@ def registry():
     return pint.UnitRegistry()
 
 
+def _shown(text: str, limit: int = 40) -> str:
+    """``text`` quoted for a message, at most ``limit`` characters (an ellipsis beyond)."""
+    return repr(text if len(text) <= limit else text[:limit - 1] + "…")
+
+
 def split_quantity(text: str):
     """Split ``"94 GHz"`` into ``(94.0, "GHz")``; raise :class:`UnitError` if malformed."""
     m = _QUANTITY.match(text)
     if not m:
-        raise UnitError(f"cannot read {text!r} as '<number> <unit>'")
+        raise UnitError(f"cannot read {_shown(text)} as '<number> <unit>'")
     return float(m.group(1)), m.group(2)
+
+
+def angle_power(unit: str) -> float:
+    """The power of the radian in ``unit`` (1 for "deg", 2 for "sr", 0 for "%"), which pint's
+    dimensions do not show: it treats angles as dimensionless, so "60 %" would convert to 0.6 rad.
+
+    >>> angle_power("deg"), angle_power("W/sr"), angle_power("percent")
+    (1, -2, 0)
+    """
+    try:
+        root = registry().Quantity(1.0, unit or "dimensionless").to_root_units()
+    except Exception:  # logarithmic units (dB/km) have no root units: not angles
+        return 0
+    return dict(root.unit_items()).get("radian", 0)
 
 
 def _to_linear(value: float, unit: str, target: str) -> float:
@@ -51,14 +70,21 @@ def _to_linear(value: float, unit: str, target: str) -> float:
     ureg = registry()
     try:
         q = ureg.Quantity(value, unit or "dimensionless")
-        return float(q.to(target or "dimensionless").magnitude)
+        out = float(q.to(target or "dimensionless").magnitude)
+        if unit and angle_power(unit) != angle_power(target):
+            raise UnitError(f"unit {_shown(unit)} is not an angle unit; write the angle in an angle unit "
+                            f"(deg, rad) or as a plain number in {target!r}" if angle_power(target)
+                            else f"unit {_shown(unit)} is an angle; {target!r} is not")
+        return out
+    except UnitError:
+        raise
     except Exception as exc:  # pint raises several exception types
         name = type(exc).__name__
         if name == "UndefinedUnitError":
-            raise UnitError(f"unknown unit {unit!r}") from None
+            raise UnitError(f"unknown unit {_shown(unit)}") from None
         if name == "DimensionalityError":
-            raise UnitError(f"unit {unit!r} cannot be converted to {target!r}") from None
-        raise UnitError(f"cannot convert {value} {unit} to {target!r}: {exc}") from None
+            raise UnitError(f"unit {_shown(unit)} cannot be converted to {target!r}") from None
+        raise UnitError(f"cannot convert {value} {_shown(unit)} to {target!r}: {_shown(str(exc), 80)}") from None
 
 
 def to_unit(value: Union[str, int, float], target: str) -> float:
@@ -85,15 +111,17 @@ def to_unit(value: Union[str, int, float], target: str) -> float:
             raise UnitError(f"value {value!r} is not finite")
         return float(value)
     if not isinstance(value, str):
-        raise UnitError(f"expected a number or a quantity string, got {type(value).__name__} {value!r}")
+        raise UnitError(f"expected a number or a quantity string, got {type(value).__name__} {_shown(repr(value))}")
     number, unit = split_quantity(value)
+    if len(unit) > 64:
+        raise UnitError(f"unit {_shown(unit)} is too long ({len(unit)} characters) to be a unit")
     unit = _UNIT_ALIASES.get(unit, unit)
     if target == "dB":
         if unit in ("", "dB", "dBi"):
             return number
         if unit in ("dBsm", "dBm", "dBW"):
-            raise UnitError(f"unit {unit!r} is an absolute level; this value is a ratio in dB")
-        raise UnitError(f"unit {unit!r} cannot be converted to 'dB' (write e.g. '3 dB')")
+            raise UnitError(f"unit {_shown(unit)} is an absolute level; this value is a ratio in dB")
+        raise UnitError(f"unit {_shown(unit)} cannot be converted to 'dB' (write e.g. '3 dB')")
     if unit == "" and target not in ("", "1", "dimensionless"):
         return number
     if target in _LOG_LEVELS:
@@ -103,7 +131,7 @@ def to_unit(value: Union[str, int, float], target: str) -> float:
             return number - _LOG_LEVELS[unit][1] + _LOG_LEVELS[target][1]
         linear = _to_linear(number, unit, _LOG_LEVELS[target][0])
         if linear <= 0:
-            raise UnitError(f"{value!r} is not positive, so it has no level in {target}")
+            raise UnitError(f"{_shown(value)} is not positive, so it has no level in {target}")
         return float(db10(linear)) + _LOG_LEVELS[target][1]
     if unit == "dB" and target in ("", "1", "dimensionless"):
         return float(from_db10(number))
@@ -117,4 +145,4 @@ def check_unit(unit: str) -> None:
     try:
         registry().parse_units(unit)
     except Exception:
-        raise UnitError(f"unknown unit {unit!r}") from None
+        raise UnitError(f"unknown unit {_shown(unit)}") from None

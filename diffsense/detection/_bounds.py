@@ -26,7 +26,9 @@ convex and increasing for k > mu, so every Newton iterate after the first lies a
 root and is itself a valid bound; the smaller of it and the composite bound is used. Measured
 in float32 against scipy over mu = 1e-5 ... 1e12 (Poisson and r = 1, 2, 20, 200, 2e4):
 P(K > k_hi) <= exp(-22.8) and P(K = k_hi) >= exp(-52) = 2.6e-23. The float64 path keeps the
-composite bounds, whose start values stay above 9e-164 for mu >= 1e-5 (N >= 1, SNR >= -50 dB).
+composite bounds for mu >= 1, whose start values stay above 9e-164 for mu >= 1e-5, and uses the
+exact Chernoff bound below mu = 1, so that P(K = k_hi) stays representable at any SNR (the
+required-SNR root finder resolves Pd - Pfa down to SNRs of -200 dB and below).
 """
 
 from __future__ import annotations
@@ -51,6 +53,9 @@ _TAIL_L_SINGLE = 20.0
 # Newton steps of the tight float32 upper bound, from the composite bound (every iterate is a
 # valid bound; see the module docstring for the measured result).
 _TIGHT_STEPS = 6
+# float64 uses the tight bound only below this mean of K (where the composite bound's start
+# value would approach float64's range).
+_TIGHT_MU_64 = 1.0
 
 
 def tail_exponent(x) -> float:
@@ -58,14 +63,15 @@ def tail_exponent(x) -> float:
     return _TAIL_L_SINGLE if single_precision(x) else _TAIL_L
 
 
-def window_bounds(threshold, n):
+def window_bounds(threshold, n, tail_l=None):
     """Integer window [j_lo, j_hi] of terms kept in the series (as floats).
 
     ``T - N - sqrt(2 L T) <= j <= T - N + L/3 + sqrt(L^2/9 + 2 L T)`` (Chernoff/Bernstein bounds
-    of the Poisson(T) tails), L from :func:`tail_exponent`.
+    of the Poisson(T) tails), L from :func:`tail_exponent` unless given (may be an array).
     """
     t = threshold
-    tail_l = tail_exponent(t)
+    if tail_l is None:
+        tail_l = tail_exponent(t)
     right = tail_l / 3.0 + jnp.sqrt(tail_l**2 / 9.0 + 2.0 * tail_l * t)
     left = jnp.sqrt(2.0 * tail_l * t)
     j_hi = jnp.maximum(jnp.ceil(t - n + right), 0.0)
@@ -130,4 +136,12 @@ def mixing_bounds(mu, r, tail_l):
         _, k_hi = poisson_quantile_bounds(mu * u_hi, tail_l)
     if single_precision(mu):
         k_hi = tight_upper_bound(mu, r, k_hi, tail_l)
+    else:
+        # float64: the composite bound's start value P(K = k_hi) underflows once the mean of K
+        # is below about 1e-5 (e.g. SNR < -50 dB at N = 1), and Pd - Pfa would be lost; there
+        # the exact Chernoff bound is used (double where: it is evaluated at mu = 1 elsewhere).
+        small = mu < _TIGHT_MU_64
+        mu_s = jnp.where(small, mu, 1.0)
+        k_tight = tight_upper_bound(mu_s, r, jnp.where(small, k_hi, 1e3), tail_l)
+        k_hi = jnp.where(small, k_tight, k_hi)
     return k_lo, k_hi

@@ -66,10 +66,10 @@ import jax.numpy as jnp
 import numpy as np
 from jax.scipy.special import betainc, gammaln, ndtri
 
-from diffsense.errors import DomainError
-from diffsense.numerics.checks import check_choice, check_range, is_concrete
+from diffsense.numerics.checks import check_choice, is_concrete
 from diffsense.numerics.db import from_db10
 from diffsense.detection import core  # the known-noise detector model
+from diffsense.detection._domain import admit, guard
 from diffsense.detection._precision import as_float
 from diffsense.detection.required_snr import required_snr_db  # the known-noise requirement
 
@@ -194,10 +194,15 @@ def _log_alpha_jvp(primals, tangents):
     return s, (dlp - dg_dtheta) / dg_ds
 
 
-def _check_common(where, pfa, m_cells, n):
-    check_range("pfa", pfa, 1e-300, 1.0, hi_open=True, where=where)
-    check_range("m_cells", m_cells, 1.0, None, where=where)
-    check_range("n", n, 1.0, None, where=where)
+def _common(pfa, m, n):
+    """Domain constraints shared by the CA-CFAR functions (see ``_domain.admit``)."""
+    return [("pfa", pfa, 1e-300, 1.0, False, True), ("m_cells", m, 1.0, None), ("n", n, 1.0, None)]
+
+
+def _admitted(where, constraints, fills, greater=()):
+    """Admission of the arguments: ``(ok, placeholders)`` (DomainError if eager, see ``_domain``)."""
+    ok, _ = admit(where, constraints, greater)
+    return ok, [guard(c[1], ok, f) for c, f in zip(constraints, fills)]
 
 
 def cfar_multiplier(pfa, m_cells, n=1):
@@ -231,9 +236,9 @@ def cfar_multiplier(pfa, m_cells, n=1):
     >>> float(betainc(16 * 4, 4, 1 / (1 + a4)) / 1e-6)
     1.0000000
     """
-    _check_common("cfar_multiplier", pfa, m_cells, n)
     pfa, m, n = jnp.broadcast_arrays(*as_float(pfa, m_cells, n))
-    return _alpha_jit(pfa, m, n)
+    ok, (pfa, m, n) = _admitted("cfar_multiplier", _common(pfa, m, n), (1e-6, 16.0, 1.0))
+    return guard(_alpha_jit(pfa, m, n), ok)
 
 
 @jax.jit
@@ -252,11 +257,10 @@ def cfar_pfa(alpha, m_cells, n=1):
     >>> float(cfar_pfa(1.0, 10)), 2.0 ** -10    # one pulse: (1 + alpha)^(-M)
     (0.00097656, 0.00097656)
     """
-    check_range("alpha", alpha, 0.0, None, lo_open=True, where="cfar_pfa")
-    check_range("m_cells", m_cells, 1.0, None, where="cfar_pfa")
-    check_range("n", n, 1.0, None, where="cfar_pfa")
     alpha, m, n = jnp.broadcast_arrays(*as_float(alpha, m_cells, n))
-    return jnp.exp(_log_pfa(alpha, m, n))
+    ok, (alpha, m, n) = _admitted("cfar_pfa", [("alpha", alpha, 0.0, None, True, False), ("m_cells", m, 1.0, None),
+                                               ("n", n, 1.0, None)], (1.0, 16.0, 1.0))
+    return guard(jnp.exp(_log_pfa(alpha, m, n)), ok)
 
 
 # --------------------------------------------------------------------------------------
@@ -372,10 +376,10 @@ def cfar_pd(snr_db, pfa, m_cells, n=1, swerling=0):
     where = "cfar_pd"
     check_choice("swerling", swerling, (0, 1, 2, 3, 4), where=where)
     model = _model(swerling, n)
-    check_range("snr_db", snr_db, -100.0, 100.0, where=where)
-    _check_common(where, pfa, m_cells, n)
     snr_db, pfa, m, n = jnp.broadcast_arrays(*as_float(snr_db, pfa, m_cells, n))
-    return _cfar_pd(snr_db, pfa, m, n, model)
+    ok, (snr_db, pfa, m, n) = _admitted(where, [("snr_db", snr_db, -100.0, 100.0)] + _common(pfa, m, n),
+                                        (0.0, 1e-6, 16.0, 1.0))
+    return guard(_cfar_pd(snr_db, pfa, m, n, model), ok)
 
 
 @partial(jax.jit, static_argnums=4)
@@ -448,12 +452,10 @@ def _required_snr_db_jvp(model, primals, tangents):
 _required_snr_db_jit = jax.jit(_required_snr_db, static_argnums=4)
 
 
-def _check_pd(where, pd, pfa):
-    check_range("pd", pd, 0.0, 1.0, lo_open=True, hi_open=True, where=where)
-    if is_concrete(pd) and is_concrete(pfa):
-        p, f = np.broadcast_arrays(np.asarray(pd, float), np.asarray(pfa, float))
-        if np.any(p <= f):
-            raise DomainError(f"{where}: argument 'pd' must exceed 'pfa'; got pd={p[p <= f].flat[0]!r}")
+def _admit_pd(where, pd, pfa, m, n):
+    """Domain of the required-SNR functions: ``pfa < pd < 1`` and the common constraints."""
+    constraints = [("pd", pd, 0.0, 1.0, True, True)] + _common(pfa, m, n)
+    return _admitted(where, constraints, (0.5, 1e-6, 16.0, 1.0), greater=[("argument 'pd'", pd, "'pfa'", pfa)])
 
 
 def cfar_required_snr_db(pd, pfa, m_cells, n=1, swerling=0):
@@ -483,10 +485,9 @@ def cfar_required_snr_db(pd, pfa, m_cells, n=1, swerling=0):
     where = "cfar_required_snr_db"
     check_choice("swerling", swerling, (0, 1, 2, 3, 4), where=where)
     model = _model(swerling, n)
-    _check_common(where, pfa, m_cells, n)
-    _check_pd(where, pd, pfa)
     pd, pfa, m, n = jnp.broadcast_arrays(*as_float(pd, pfa, m_cells, n))
-    return _required_snr_db_jit(jnp.log(pd), jnp.log(pfa), m, n, model)
+    ok, (pd, pfa, m, n) = _admit_pd(where, pd, pfa, m, n)
+    return guard(_required_snr_db_jit(jnp.log(pd), jnp.log(pfa), m, n, model), ok)
 
 
 def cfar_loss_db(pd, pfa, m_cells, n=1, swerling=0):
@@ -524,8 +525,8 @@ def cfar_loss_db(pd, pfa, m_cells, n=1, swerling=0):
     where = "cfar_loss_db"
     check_choice("swerling", swerling, (0, 1, 2, 3, 4), where=where)
     model = _model(swerling, n)
-    _check_common(where, pfa, m_cells, n)
-    _check_pd(where, pd, pfa)
     pd, pfa, m, n = jnp.broadcast_arrays(*as_float(pd, pfa, m_cells, n))
+    ok, (pd, pfa, m, n) = _admit_pd(where, pd, pfa, m, n)
     s_cfar = _required_snr_db_jit(jnp.log(pd), jnp.log(pfa), m, n, model)
-    return s_cfar - required_snr_db(pd, pfa, n, swerling)
+    # the known-noise requirement has its own (narrower) domain: pfa <= 0.5, n <= 1e4
+    return guard(s_cfar - required_snr_db(pd, pfa, n, swerling), ok)

@@ -23,12 +23,21 @@ The weights ``pois(N+j; T)`` are concentrated within a few sqrt(T) of ``j = T - 
 the SNR, so (1) is summed over the window ``T - N - sqrt(2 L T) <= j <= T - N + L/3 +
 sqrt(L^2/9 + 2 L T)`` (Chernoff/Bernstein bounds of the Poisson tails, :mod:`._bounds`), which
 bounds the truncation error by ``2 exp(-L)`` with L = 40 in float64, i.e. 8.5e-18 absolute
-(L = 20 in float32: 4.1e-9). The number of terms grows like sqrt(T), not with the SNR. The
-survival ``P(K > j)`` is accumulated downward from the top of the window
-(``P(K > j-1) = P(K > j) + P(K = j)``), a sum of positive terms, so it keeps full relative
-accuracy even when it is tiny (low SNR and Pfa down to 1e-300). The start value
-is the regularized incomplete gamma (Poisson) or beta (negative binomial) function, closed form
-for r = 1, 2.
+(L = 20 in float32: 4.1e-9). The number of terms grows like sqrt(T), not with the SNR.
+
+**Two directions, two small quantities.** When K's mean lies below the window centre T - N
+plus one standard deviation sqrt(T) of the weights (Pd <~ 0.8), the survival ``P(K > j)`` is accumulated downward from the top of K's range
+(``P(K > j-1) = P(K > j) + P(K = j)``), a sum of positive terms, so ``Pd - Pfa`` keeps full
+relative accuracy even when it is tiny (low SNR and Pfa down to 1e-300). The start value is
+the probability at an upper quantile bound of K (Swerling 1/3: the closed-form survival).
+Otherwise (Pd >~ 0.8) the CDF ``P(K <= j)`` is accumulated upward from a lower
+quantile bound of K, and the same series gives the miss probability directly,
+
+    1 - Pd = P(Y <= T) = sum_{j >= 0} pois(N + j; T) P(K <= j),                           (2)
+
+with full relative accuracy however close Pd is to 1 (within 1e-12 and beyond), and without
+the term Q(N, T): neither the threshold's rounding nor the cancellation of ``dQ/dN`` against
+the series enters it. ``required_snr`` solves on the logarithm of the small one of the two.
 
 ``N`` may be real: (1) is the noncentral gamma law with real shape, equal to the exact result
 at integers and smooth in between.
@@ -38,11 +47,16 @@ at integers and smooth in between.
 * ``dPd/dmu = sum_j pois(N+j; T) P(K = j) (j + r)/(r + mu)`` (Poisson: factor 1),
 * ``dPd/dT = -sum_j pois(N+j-1; T) P(K = j)`` (minus the density of Y at T),
 * ``dPd/dN`` from the explicit N in ``pois`` (digamma), from ``mu = N S``, from
-  ``dQ(N,T)/dN`` and, for Swerling 4, from the shape r = 2N (through the digamma-weighted
-  negative-binomial CDF).
+  ``dQ(N,T)/dN`` (DOWN; UP differentiates (2) instead, which has no Q term, so that the
+  derivative does not arise as the difference of two O(1) numbers when Pd is near 1) and, for
+  Swerling 4, from the shape r = 2N (through the digamma-weighted negative-binomial CDF).
 
 Swerling 2 has the closed form ``Pd = Q(N, T/(1+S))`` because every pulse is an exponential
-with mean 1+S; it is used directly.
+with mean 1+S; it is used directly (``_gamma.gamma_q``, accurate to ~1e-15 relative at N = 1e4).
+
+**Domain.** ``pd_given_threshold`` accepts S >= 0 (clipped to [1e-30, 1e30], beyond which Pd is
+Pfa or 1 to float64 precision; float32: [1e-15, 1e15]), 0 < T < inf and 1 <= N < inf: an
+eager call outside raises DomainError, a traced call returns NaN (``_domain``).
 
 **float32** (``DIFFSENSE_X64=0``, inputs float32). The float64 program is unchanged (the
 choices below are made at trace time from the dtype); in float32 the loop differs in four ways,
@@ -83,7 +97,11 @@ import jax
 import jax.numpy as jnp
 from jax.scipy.special import digamma, gammaincc
 
+import numpy as np
+
 from diffsense.detection._bounds import mixing_bounds, tail_exponent, window_bounds
+from diffsense.detection._domain import admit, guard
+from diffsense.detection._gamma import gamma_q
 from diffsense.detection._logpmf import log_negbin_pmf, log_negbin_pmf_mean, log_poisson_pmf
 from diffsense.detection._precision import single_precision
 from diffsense.detection.steady import steady_pd
@@ -125,40 +143,73 @@ def _closed_survival(swerling, m, log_q, log_1mq):
     return jnp.exp(m * log_q) * (1.0 + m * jnp.exp(log_1mq))
 
 
-def _mixture_sum(snr, t, n, q0, swerling, with_partials):
-    """Evaluate (1) and, optionally, its partial derivatives w.r.t. (snr, t, n).
+def _walk_start(swerling, mu, r, t, n, tail_l, log_q, log_1mq):
+    """Window, direction and start point of the recursion (see ``_mixture_sum``)."""
+    j_lo, j_hi = window_bounds(t, n, tail_l)
+    k_lo, k_hi = mixing_bounds(mu, r, tail_l)
+    # Direction. UP when K's mean lies a standard deviation sqrt(T) of the weights above the
+    # centre T - N of the window (Pd >~ 0.8, Pd - Pfa not small): the CDF F(j) = P(K < j) is
+    # summed upward from k_lo, where it is below exp(-L), so that the miss probability
+    # 1 - Pd = sum_j pois(N + j; T) P(K <= j) is a sum of positive terms with full relative
+    # accuracy, however close Pd is to 1. DOWN otherwise: P(K > j) is summed downward from k_hi,
+    # where it is below exp(-L) (Swerling 1/3: exact closed form at the start), so that Pd - Pfa
+    # keeps full relative accuracy when it is tiny (UP would form it as 1 - P(K <= j), which
+    # cancels when K's mean is tiny, e.g. at Pfa = 0.5 where T - N < 0). Both walk only from a
+    # quantile bound of K to the window. When all of K's mass lies above the window
+    # (k_lo > j_hi), P(K > j) = 1 on it, (1) sums to 1 - Pfa and no step is taken.
+    above = k_lo > j_hi
+    up = (mu > t - n + jnp.sqrt(t)) & ~above
+    if swerling in (1, 3):
+        j_down = jnp.minimum(k_hi, j_hi)
+        surv0 = jnp.where(up, 0.0, _closed_survival(swerling, j_down + 1.0, log_q, log_1mq))
+    else:
+        j_down = k_hi
+        surv0 = jnp.zeros_like(mu)  # DOWN: P(K > k_hi) ~ 0; UP: F(k_lo) ~ 0
+    # K's recursion starts at j_start (P(K = j) is taken as 0 on the loop's way to it). UP loops
+    # begin at the lower of k_lo and the window bottom, so that every window term is visited
+    # (P(K > j) = 1 below k_lo); starting K's recursion at the window bottom instead would start
+    # it from a probability that may underflow (P(K = 0) = e^-mu).
+    j_start = jnp.where(up, k_lo, j_down)
+    j_loop = jnp.where(up, jnp.minimum(k_lo, j_lo), j_down)
+    j_start = jnp.where(above, j_lo - 1.0, j_start)
+    j_loop = jnp.where(above, j_lo - 1.0, j_loop)
+    return j_lo, j_hi, above, up, j_start, j_loop, surv0
 
-    ``with_partials``: False, True (all three) or "snr" (only dPd/dsnr, for root finding).
+
+def _ratios(j, mu, r, q_, inv_q, single):
+    """P(K = j-1)/P(K = j) (DOWN) and P(K = j+1)/P(K = j) (UP)."""
+    if r is None:
+        return j / mu, mu / (j + 1.0)  # quotients, for the reason given at pois_next
+    if single:
+        # float32: no rounded constant (1/q, q) in the ratio, whose rounding (up to 6e-8)
+        # would repeat at every step: 250 steps at N = 1 drift P(K = j) by 1.5e-5.
+        return (j * mu + j * r) / ((j - 1.0 + r) * mu), ((j + r) * mu) / ((j + 1.0) * mu + (j + 1.0) * r)
+    return j / (j - 1.0 + r) * inv_q, (j + r) / (j + 1.0) * q_
+
+
+def _mixture_sum(snr, t, n, q0, swerling, with_partials, tail_l=None):
+    """Evaluate (1), the miss probability 1 - Pd and, optionally, partial derivatives of Pd.
+
+    ``with_partials``: False, True (w.r.t. snr, t, n) or "snr" (only dPd/dsnr, for root
+    finding). ``tail_l``: truncation exponent L (default :func:`tail_exponent`); the root finder
+    of ``required_snr`` raises it so that the truncation stays below its target's accuracy.
+    Returns ``(pd, excess, miss, partials)``: ``excess = Pd - Pfa`` as summed (full relative
+    accuracy on DOWN walks), ``miss = 1 - Pd`` summed directly on UP walks (1 - pd on DOWN
+    walks, where Pd <~ 1/2).
     """
     want_snr = bool(with_partials)
     want_all = with_partials is True
     mu = n * snr
     r = _shape(swerling, n)
-    j_lo, j_hi = window_bounds(t, n)
+    if tail_l is None:
+        tail_l = tail_exponent(mu)
     if r is None:
         log_q = jnp.zeros_like(mu)
         log_1mq = jnp.zeros_like(mu)
     else:
         log_q = -jnp.log1p(r / mu)
         log_1mq = -jnp.log1p(mu / r)
-    k_lo, k_hi = mixing_bounds(mu, r, tail_exponent(mu))
-
-    # Direction of the recursion. DOWN (K's mean at or below the window top): P(K > j) is summed
-    # downward from k_hi, where it is below 2e-18 (Swerling 1/3: exact closed form at the start).
-    # UP (mean above the window): the CDF F(j) = P(K < j) is summed upward from k_lo, where it is
-    # below 2e-18, and P(K > j) = 1 - F(j+1). Both are sums of positive terms and both walk only
-    # from a quantile bound of K to the window. When all of K's mass lies above the window
-    # (k_lo > j_hi), P(K > j) = 1 on it, (1) sums to 1 - Pfa and no step is taken.
-    above = k_lo > j_hi
-    if swerling in (1, 3):
-        up = jnp.zeros_like(above)
-        j_start = jnp.minimum(k_hi, j_hi)
-        surv0 = _closed_survival(swerling, j_start + 1.0, log_q, log_1mq)
-    else:
-        up = (mu > j_hi) & ~above
-        j_start = jnp.where(up, jnp.minimum(k_lo, j_lo), k_hi)
-        surv0 = jnp.zeros_like(mu)  # DOWN: P(K > k_hi) ~ 0; UP: F(k_lo) ~ 0
-    j_start = jnp.where(above, j_lo - 1.0, j_start)
+    j_lo, j_hi, above, up, j_start, j_loop, surv0 = _walk_start(swerling, mu, r, t, n, tail_l, log_q, log_1mq)
     down = ~up
     pmf0 = jnp.exp(_log_pmf(swerling, j_start, mu, r, log_q, log_1mq))
     single = single_precision(mu)
@@ -166,11 +217,9 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials):
         # float32: DOWN walks start at the window top even when K's recursion starts lower (its
         # P(K = j) is 0 until j reaches j_start), so that every walk passes the anchor j_mode
         # of the weights (see the end of this function).
-        j_loop = jnp.where(down & ~above, jnp.maximum(j_start, j_hi), j_start)
-        pmf_init = jnp.where(j_loop == j_start, pmf0, 0.0)
+        j_loop = jnp.where(down & ~above, jnp.maximum(j_start, j_hi), j_loop)
         j_mode = jnp.clip(jnp.floor(t - n), j_lo, j_hi)
-    else:
-        j_loop, pmf_init = j_start, pmf0
+    pmf_init = jnp.where(j_loop == j_start, pmf0, 0.0)
     j_first = jnp.clip(j_loop, j_lo, j_hi)
     pois0 = jnp.exp(log_poisson_pmf(n + j_first, t))
     inv_q = jnp.exp(-log_q)
@@ -178,7 +227,7 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials):
     inv_t = 1.0 / t
     zeros = jnp.zeros_like(t)
 
-    state = dict(j=j_loop, pois=pois0, pmf=pmf_init, surv=surv0, acc=jnp.where(above, 1.0 - q0, 0.0))
+    state = dict(j=j_loop, pois=pois0, pmf=pmf_init, surv=surv0, acc=jnp.where(above, 1.0 - q0, 0.0), miss=zeros)
     if single:
         state["pois_mode"] = zeros
     if want_snr:
@@ -197,41 +246,37 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials):
         inside = live & (j >= j_lo) & (j <= j_hi)
         pois_j = s["pois"]
         pmf_j = s["pmf"]
-        # P(K > j): DOWN keeps it in "surv"; UP keeps F(j) = P(K < j) there.
-        tail = jnp.where(down, s["surv"], 1.0 - (s["surv"] + pmf_j))
+        # DOWN keeps P(K > j) in "surv"; UP keeps F(j) = P(K < j) there.
+        cdf = s["surv"] + pmf_j  # UP: P(K <= j)
+        tail = jnp.where(down, s["surv"], 1.0 - cdf)
         counted = inside
         if single:
             # Above K's start point (float32 DOWN walks begin at the window top) P(K > j) is
             # below exp(-L) and not summed, as in float64, whose walk begins at that point.
             counted = inside & (up | (j <= j_start))
         out = {"acc": s["acc"] + jnp.where(counted, pois_j * tail, 0.0)}
+        out["miss"] = s["miss"] + jnp.where(inside & up, pois_j * cdf, 0.0)
         if want_snr:
             weight = 1.0 if r is None else (j + r) / (r + mu)
             out["d_mu"] = s["d_mu"] + jnp.where(inside, pois_j * pmf_j * weight, 0.0)
         if want_all:
             out["d_t"] = s["d_t"] + jnp.where(inside, pois_j * ((n + j) * inv_t) * pmf_j, 0.0)
-            out["d_n"] = s["d_n"] + jnp.where(counted, pois_j * (log_t - s["psi"]) * tail, 0.0)
+            # dPd/dN at fixed T and mu: DOWN sum_j w'_j P(K > j) + dQ(N, T)/dN (added at the
+            # end); UP -sum_j w'_j P(K <= j), the derivative of minus the miss probability,
+            # which needs no dQ/dN and so does not cancel when Pd is near 1.
+            factor = jnp.where(down, tail, -cdf)
+            out["d_n"] = s["d_n"] + jnp.where(counted, pois_j * (log_t - s["psi"]) * factor, 0.0)
             psi_next = jnp.where(down, s["psi"] - 1.0 / (n + j), s["psi"] + 1.0 / (n + j + 1.0))
             out["psi"] = jnp.where(inside, psi_next, s["psi"])
-        if r is None:
-            ratio_down = j / mu  # a quotient, for the reason given at pois_next below
-            ratio_up = mu / (j + 1.0)
-        elif single:
-            # float32: no rounded constant (1/q, q) in the ratio, whose rounding (up to 6e-8)
-            # would repeat at every step: 250 steps at N = 1 drift P(K = j) by 1.5e-5.
-            ratio_down = (j * mu + j * r) / ((j - 1.0 + r) * mu)
-            ratio_up = ((j + r) * mu) / ((j + 1.0) * mu + (j + 1.0) * r)
-        else:
-            ratio_down = j / (j - 1.0 + r) * inv_q
-            ratio_up = (j + r) / (j + 1.0) * q_
+        ratio_down, ratio_up = _ratios(j, mu, r, q_, inv_q, single)
         # Quotients, not products with a precomputed 1/t: the rounding error of 1/t would repeat
         # at every step and drift the weights by up to (steps) x 1.1e-16 (2e-13 over the
         # ~2000-term windows at N ~ 1e4); correctly rounded quotients do not accumulate a bias.
         pois_next = jnp.where(down, pois_j * ((n + j) / t), pois_j * (t / (n + j + 1.0)))
         out["surv"] = jnp.where(live, s["surv"] + pmf_j, s["surv"])
         pmf_next = pmf_j * jnp.where(down, ratio_down, ratio_up)
+        pmf_next = jnp.where(jnp.where(down, j - 1.0, j + 1.0) == j_start, pmf0, pmf_next)
         if single:
-            pmf_next = jnp.where(jnp.where(down, j - 1.0, j + 1.0) == j_start, pmf0, pmf_next)
             out["pois_mode"] = jnp.where(j == j_mode, pois_j, s["pois_mode"])
         out["pmf"] = jnp.where(live, pmf_next, pmf_j)
         out["pois"] = jnp.where(inside, pois_next, pois_j)
@@ -240,29 +285,37 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials):
 
     s = jax.lax.while_loop(cond, body, state)
     if single:
-        # float32: the weights pois(N + j; T) all derive from the start weight at a window edge,
-        # the exponential of a log-probability of about -25 whose rounding (a few ulp of 25, i.e.
-        # a few 1e-6) scales every term. At the mode of the weights (j = T - N) the
-        # log-probability is only -log(2 pi T)/2, so its exponential is accurate to a few 1e-7:
-        # rescaling by the ratio of that value to the recursion's value there removes the common
-        # factor.
-        pois_mode = jnp.exp(log_poisson_pmf(n + j_mode, t))
-        ok = ~above & (s["pois_mode"] > 0.0)
-        scale = jnp.where(ok, pois_mode / jnp.where(ok, s["pois_mode"], 1.0), 1.0)
-        s = {k: (v * scale if k in ("acc", "d_mu", "d_t", "d_n") else v) for k, v in s.items()}
+        s = _rescale_at_mode(s, log_poisson_pmf(n + j_mode, t), above)
     pd = jnp.clip(q0 + s["acc"], 0.0, 1.0)
+    miss = jnp.where(up, s["miss"], jnp.where(above, 0.0, 1.0 - pd))
+    excess = s["acc"]
     if not want_snr:
-        return pd, None
+        return pd, excess, miss, None
     d_snr = n * s["d_mu"]
     if not want_all:
-        return pd, (d_snr, None, None)
+        return pd, excess, miss, (d_snr, None, None)
     d_t = -s["d_t"]
     _, dq_dn = jax.jvp(lambda a: gammaincc(a, t), (n,), (jnp.ones_like(n),))
-    # Above the window Pd = 1 - O(e^-L) whatever n: the Q(n, T) term and the skipped sum cancel.
-    d_n = s["d_n"] + jnp.where(above, 0.0, dq_dn) + snr * s["d_mu"]
+    # UP and above the window the Q(n, T) term is not part of the derivative (see body); above,
+    # Pd = 1 - O(e^-L) whatever n.
+    d_n = s["d_n"] + jnp.where(above | up, 0.0, dq_dn) + snr * s["d_mu"]
     if swerling == 4:
         d_n = d_n + 2.0 * _negbin_shape_partial(t, n, mu, r, log_q, j_lo, j_hi)
-    return pd, (d_snr, d_t, d_n)
+    return pd, excess, miss, (d_snr, d_t, d_n)
+
+
+def _rescale_at_mode(s, log_pois_mode, above):
+    """float32: rescale the sums by the exact weight at the mode over the recursion's value there.
+
+    The weights pois(N + j; T) all derive from the start weight at a window edge, the
+    exponential of a log-probability of about -25 whose rounding (a few ulp of 25, i.e. a few
+    1e-6) scales every term. At the mode of the weights (j = T - N) the log-probability is only
+    -log(2 pi T)/2, so its exponential is accurate to a few 1e-7: rescaling by the ratio of that
+    value to the recursion's value there removes the common factor.
+    """
+    ok = ~above & (s["pois_mode"] > 0.0)
+    scale = jnp.where(ok, jnp.exp(log_pois_mode) / jnp.where(ok, s["pois_mode"], 1.0), 1.0)
+    return {k: (v * scale if k in ("acc", "miss", "d_mu", "d_t", "d_n") else v) for k, v in s.items()}
 
 
 def _negbin_shape_partial(t, n, mu, r, log_q, j_lo, j_hi):
@@ -357,7 +410,7 @@ def _pd_mixture(snr, t, n, q0, swerling):
 def _pd_mixture_jvp(swerling, primals, tangents):
     snr, t, n, q0 = primals
     d_snr_dot, d_t_dot, d_n_dot, _ = tangents  # q0 is Q(n, t): its tangent follows from t, n
-    pd, (p_snr, p_t, p_n) = _chunked(lambda *a: _mixture_sum(*a, swerling, with_partials=True), snr, t, n, q0)
+    pd, _, _, (p_snr, p_t, p_n) = _chunked(lambda *a: _mixture_sum(*a, swerling, with_partials=True), snr, t, n, q0)
     tangent = p_snr * d_snr_dot + p_t * d_t_dot + p_n * d_n_dot
     return pd, tangent
 
@@ -375,7 +428,7 @@ def _pd_steady_jvp(primals, tangents):
     snr, t, n, q0 = primals
     d_snr_dot, d_t_dot, d_n_dot, _ = tangents
     t_b, n_b, q0_b = (jnp.broadcast_to(a, snr.shape) for a in (t, n, q0))
-    pd, (p_snr, p_t, p_n) = _chunked(lambda *a: _mixture_sum(*a, 0, with_partials=True), snr, t_b, n_b, q0_b)
+    pd, _, _, (p_snr, p_t, p_n) = _chunked(lambda *a: _mixture_sum(*a, 0, with_partials=True), snr, t_b, n_b, q0_b)
     return pd, p_snr * d_snr_dot + p_t * d_t_dot + p_n * d_n_dot
 
 
@@ -383,16 +436,19 @@ def pd_given_threshold(snr_linear, threshold, n, swerling=0, *, pfa=None):
     """Detection probability for a threshold on the integrated statistic.
 
     Args:
-        snr_linear: mean single-pulse SNR S (linear power ratio, > 0).
-        threshold: threshold T on Y (units of the mean noise power of one pulse, > 0).
-        n: pulses integrated noncoherently (real >= 1).
+        snr_linear: mean single-pulse SNR S (linear power ratio, >= 0; S = 0 gives Pfa and
+            S = inf gives 1, the limits, which hold to float64 precision beyond 1e-30 and
+            1e30, where S is clipped).
+        threshold: threshold T on Y (units of the mean noise power of one pulse, 0 < T < inf).
+        n: pulses integrated noncoherently (real, 1 <= n < inf).
         swerling: 0 (=5), 1, 2, 3 or 4 (static).
         pfa: optional ``Q(n, T)`` when already known (saves one incomplete-gamma evaluation
             and keeps the false-alarm probability bit-exact); its derivative is taken from T
             and n.
 
     Returns:
-        Pd, exact to float64 round-off (see module docstring for the method).
+        Pd, exact to float64 round-off (see module docstring for the method). Outside the
+        domain an eager call raises DomainError and a traced call returns NaN.
 
     One pulse: a Swerling 1 echo power is exponential with mean 1 + S, so Pd = exp(-T/(1+S)):
 
@@ -404,20 +460,34 @@ def pd_given_threshold(snr_linear, threshold, n, swerling=0, *, pfa=None):
         raise ValueError(f"swerling must be one of {SWERLING_CASES}; got {swerling!r}")
     dtype = jnp.result_type(snr_linear, threshold, n, float)
     snr, t, n = (jnp.asarray(a, dtype=dtype) for a in (snr_linear, threshold, n))
+    ok, each = admit("pd_given_threshold", [
+        ("snr_linear", snr, 0.0, None),
+        ("threshold", t, 0.0, np.inf, True, True),
+        ("n", n, 1.0, np.inf, False, True),
+    ])
+    snr, t, n = (guard(a, m, 1.0) for a, m in zip((snr, t, n), each))
+    lim = 1e15 if single_precision(snr) else 1e30  # +-150 / +-300 dB (probability.saturation_db)
+    snr = jnp.clip(snr, 1.0 / lim, lim)
+    return guard(_pd_given_threshold(snr, t, n, swerling, pfa), ok)
+
+
+def _pd_given_threshold(snr, t, n, swerling, pfa):
+    """:func:`pd_given_threshold` for admitted arrays of one dtype (no checks)."""
+    dtype = snr.dtype
     if swerling in (0, 5) and t.size == 1 and n.size == 1 and (pfa is None or jnp.size(pfa) == 1):
         # One threshold for all elements (e.g. an SNR grid at fixed Pfa and N): fast kernel.
         shape = jnp.broadcast_shapes(snr.shape, t.shape, n.shape, jnp.shape(pfa) if pfa is not None else ())
         t0, n0 = t.reshape(()), n.reshape(())
         if pfa is None:
-            q0 = gammaincc(n0, t0)
+            q0 = gamma_q(n0, t0)
         else:
             q0 = jax.lax.stop_gradient(jnp.asarray(pfa, dtype=dtype).reshape(()))
         return _pd_steady(jnp.broadcast_to(snr, shape), t0, n0, q0)
     snr, t, n = jnp.broadcast_arrays(snr, t, n)
     if swerling == 2:
-        return gammaincc(n, t / (1.0 + snr))
+        return gamma_q(n, t / (1.0 + snr))
     if pfa is None:
-        q0 = gammaincc(n, t)
+        q0 = gamma_q(n, t)
     else:
         q0 = jnp.broadcast_to(jnp.asarray(pfa, dtype=dtype), t.shape)
         q0 = jax.lax.stop_gradient(q0)

@@ -64,8 +64,9 @@ import jax
 import jax.numpy as jnp
 from jax.scipy.special import erf
 
-from diffsense.numerics.checks import check_choice, check_range
+from diffsense.numerics.checks import check_choice
 from diffsense.numerics.db import db10
+from diffsense.detection._domain import admit, guard
 
 __all__ = [
     "FILTERS",
@@ -204,7 +205,10 @@ def _eff_rect_pulse_tuned(x, n: int):
     else:
         s = w / (n - 1)
         y_late = w / (-jnp.expm1(-s))  # w0 * t*
-        y_early = w / jnp.expm1(s)  # w0 * (t* - tau)
+        # w0 (t* - tau) = w / (e^s - 1), written with e^-s: the form w / expm1(s) overflows in
+        # float32 beyond s = 88.7 (two circuits: beta tau ~ 18) and its derivative
+        # -w e^s / expm1(s)^2 becomes inf/inf = NaN; e^-s underflows gracefully to 0.
+        y_early = y_late * jnp.exp(-s)
         peak = _gamma_q_integer(n, y_early) - _gamma_q_integer(n, y_late)
     return peak * peak / noise
 
@@ -234,6 +238,15 @@ def _check_names(filter, pulse, where):
     check_choice("filter", filter, PULSES[pulse], where=where)
 
 
+def _admitted(where, fn, bandwidth_time_product, filter, pulse):
+    """``fn(x)`` on the documented domain of ``x = beta tau``: DomainError if eager, NaN if traced."""
+    _check_names(filter, pulse, where)
+    lo, hi = _domain(filter, pulse)
+    x = jnp.asarray(bandwidth_time_product, dtype=jnp.result_type(float, bandwidth_time_product))
+    ok, _ = admit(where, [("bandwidth_time_product", x, lo, hi)])
+    return guard(fn(guard(x, ok, 1.0)), ok)
+
+
 def matched_filter_efficiency(bandwidth_time_product, filter: str = "two_tuned", pulse: str = "rectangular"):
     """Peak output SNR of a practical filter divided by the matched-filter SNR ``2E/N0``.
 
@@ -253,16 +266,15 @@ def matched_filter_efficiency(bandwidth_time_product, filter: str = "two_tuned",
 
     Domain: ``0.01 <= beta*tau <= 50``; for the rectangular pulse with the rectangular
     filter ``0.01 <= beta*tau <= 2.86`` (beyond, the output maximum leaves the pulse centre).
+    Outside it an eager call raises DomainError and a traced call returns NaN. Values and
+    derivatives are finite over the whole domain in float64 and in float32 (the tuned cascades
+    are written without the overflowing ``1/expm1(s)``).
 
     Source: Skolnik, *Introduction to Radar Systems*, 3rd ed., sec. 5.2 and Table 5.1;
     Brooker, Table 9.1.
     """
-    where = "matched_filter_efficiency"
-    _check_names(filter, pulse, where)
-    lo, hi = _domain(filter, pulse)
-    check_range("bandwidth_time_product", bandwidth_time_product, lo, hi, where=where)
-    x = jnp.asarray(bandwidth_time_product, dtype=jnp.result_type(float, bandwidth_time_product))
-    return _efficiency_fn(filter, pulse)(x)
+    _check_names(filter, pulse, "matched_filter_efficiency")
+    return _admitted("matched_filter_efficiency", _efficiency_fn(filter, pulse), bandwidth_time_product, filter, pulse)
 
 
 def matched_filter_loss_db(bandwidth_time_product, filter: str = "two_tuned", pulse: str = "rectangular"):
@@ -300,12 +312,9 @@ def matched_filter_loss_db(bandwidth_time_product, filter: str = "two_tuned", pu
     >>> abs(float(matched_filter_loss_db(2 * math.log(2) / math.pi, "gaussian", "gaussian"))) < 1e-12
     True
     """
-    where = "matched_filter_loss_db"
-    _check_names(filter, pulse, where)
-    lo, hi = _domain(filter, pulse)
-    check_range("bandwidth_time_product", bandwidth_time_product, lo, hi, where=where)
-    x = jnp.asarray(bandwidth_time_product, dtype=jnp.result_type(float, bandwidth_time_product))
-    return -db10(_efficiency_fn(filter, pulse)(x))
+    _check_names(filter, pulse, "matched_filter_loss_db")
+    eff = _efficiency_fn(filter, pulse)
+    return _admitted("matched_filter_loss_db", lambda x: -db10(eff(x)), bandwidth_time_product, filter, pulse)
 
 
 _OPT_GRID = 256

@@ -8,34 +8,53 @@ dB conversions).
 from __future__ import annotations
 
 import jax.numpy as jnp
+import numpy as np
 
-from diffsense.numerics.checks import check_range
 from diffsense.numerics.db import db10 as linear_to_db
 from diffsense.numerics.db import from_db10 as db_to_linear
-from diffsense.detection.core import SWERLING_CASES, pd_given_threshold
+from diffsense.detection._domain import admit, guard
+from diffsense.detection._precision import single_precision
+from diffsense.detection.core import SWERLING_CASES, _pd_given_threshold
 from diffsense.detection.threshold import _threshold
 
 __all__ = ["pd", "pd_coherent", "db_to_linear", "linear_to_db"]
 
-#: Documented domain of the detection functions (values and gradients are finite here).
+#: SNRs (dB) over which the accuracy of Pd is documented; Pd is defined for every finite SNR.
 SNR_DB_RANGE = (-50.0, 80.0)
+#: Domain of the false-alarm probability and the pulse count of the detection functions.
 PFA_RANGE = (1e-300, 0.5)
 N_RANGE = (1.0, 1e4)
+# SNR (dB) beyond which Pd equals its limits Pfa (below) and 1 (above) to the working precision,
+# whatever Pfa, N and the Swerling case: at -300 dB, Pd/Pfa - 1 < N S T < 1e-20; at +300 dB the
+# most fluctuating case (Swerling 1, N = 1) misses with probability -ln(Pfa)/S < 1e-27 (float64).
+# float32 (eps 6e-8) saturates at +-150 dB, inside the range where its arithmetic cannot overflow.
+_SATURATION_DB = 300.0
+_SATURATION_DB_SINGLE = 150.0
 
 
-def _check_common(where, snr_db, pfa, n, swerling):
+def saturation_db(x) -> float:
+    """SNR (dB) beyond which Pd is Pfa or 1 to the precision of ``x`` (see above)."""
+    return _SATURATION_DB_SINGLE if single_precision(x) else _SATURATION_DB
+
+
+def _admit_common(where, snr_db, pfa, n, swerling):
+    """Domain of :func:`pd`: finite SNR, Pfa in PFA_RANGE, N in N_RANGE (masks; raises if eager)."""
     if swerling not in SWERLING_CASES:
         raise ValueError(f"{where}: swerling must be one of {SWERLING_CASES}; got {swerling!r}")
-    check_range("snr_db", snr_db, *SNR_DB_RANGE, where=where)
-    check_range("pfa", pfa, PFA_RANGE[0], PFA_RANGE[1], where=where)
-    check_range("n", n, *N_RANGE, where=where)
+    return admit(where, [
+        ("snr_db", snr_db, -np.inf, np.inf, True, True),
+        ("pfa", pfa, *PFA_RANGE),
+        ("n", n, *N_RANGE),
+    ])
 
 
 def pd(snr_db, pfa, n=1, swerling=0):
     """Probability of detection of N noncoherently integrated square-law samples.
 
     Args:
-        snr_db: mean single-pulse signal-to-noise ratio in dB (-50 ... 80).
+        snr_db: mean single-pulse signal-to-noise ratio in dB, any finite value. Pd tends to Pfa
+           as the SNR falls and to 1 as it rises; beyond +-300 dB (float32: +-150 dB) it equals
+           those limits to the working precision and is returned as such (zero slope).
         pfa: false-alarm probability per decision (1e-300 ... 0.5).
         n: number of pulses integrated noncoherently (real, 1 ... 1e4; non-integer values are the
            smooth noncentral-gamma relaxation, equal to the exact value at integers).
@@ -47,7 +66,11 @@ def pd(snr_db, pfa, n=1, swerling=0):
         over Swerling 0-4, N 1-1000, Pfa 1e-1-1e-15 (tests/test_detection_accuracy.py).
         Terms below 8.5e-18 are truncated, so Pd - Pfa is resolved to that absolute level.
 
-    Broadcasts over its array arguments; jit/vmap/grad-able in ``snr_db``, ``pfa`` and ``n``.
+    Domain: the same eagerly and under ``jit``. An eager call with a NaN or infinite SNR, Pfa
+    outside [1e-300, 0.5], N outside [1, 1e4] or an unknown Swerling case raises
+    :class:`~diffsense.errors.DomainError` (ValueError for ``swerling``); a traced call returns
+    NaN (value and gradient) for those elements. Broadcasts over its array arguments;
+    jit/vmap/grad-able in ``snr_db``, ``pfa`` and ``n``.
 
     Examples: DiFranco & Rubin's classic point, Pd = 0.9 at Pfa = 1e-6 with one pulse, needs
     13.18 dB for a steady target and 21.14 dB for Swerling 1. For one pulse on a steady target
@@ -61,13 +84,23 @@ def pd(snr_db, pfa, n=1, swerling=0):
     (0.8995, 0.8995)
     >>> float(pd(21.14, 1e-6, 1, swerling=1)), 1e-6 ** (1 / (1 + 10 ** 2.114))
     (0.89992, 0.89992)
+
+    Far outside the usual range the limits hold (Swerling 1, one pulse, closed form):
+
+    >>> float(pd(120.0, 1e-6, 1, swerling=1)), 1e-6 ** (1 / (1 + 1e12))
+    (0.99999999998618, 0.99999999998618)
+    >>> float(pd(-120.0, 1e-6, 1, swerling=1)) / 1e-6, 1e-6 ** (1 / (1 + 1e-12)) / 1e-6
+    (1.0000000000138, 1.0000000000138)
     """
-    _check_common("pd", snr_db, pfa, n, swerling)
     dtype = jnp.result_type(snr_db, pfa, n, float)
     snr_db, pfa, n = (jnp.asarray(a, dtype=dtype) for a in (snr_db, pfa, n))
+    ok, each = _admit_common("pd", snr_db, pfa, n, swerling)
+    snr_db, pfa, n = (guard(a, m, fill) for a, m, fill in zip((snr_db, pfa, n), each, (0.0, 1e-6, 1.0)))
     pfa_b, n_b = jnp.broadcast_arrays(pfa, n)
     t = _threshold(pfa_b, n_b)
-    return pd_given_threshold(db_to_linear(snr_db), t, n_b, swerling, pfa=pfa_b)
+    lim = saturation_db(snr_db)
+    snr = db_to_linear(jnp.clip(snr_db, -lim, lim))
+    return guard(_pd_given_threshold(snr, t, n_b, swerling, pfa_b), ok)
 
 
 def pd_coherent(snr_db, pfa, n=1, swerling=0):
@@ -89,6 +122,7 @@ def pd_coherent(snr_db, pfa, n=1, swerling=0):
             "pd_coherent: swerling 2 and 4 decorrelate from pulse to pulse, so their echoes do not "
             "integrate coherently; use pd(...) for noncoherent integration"
         )
-    check_range("n", n, *N_RANGE, where="pd_coherent")
     n = jnp.asarray(n, dtype=jnp.result_type(n, float))
-    return pd(jnp.asarray(snr_db) + linear_to_db(n), pfa, 1.0, swerling)
+    ok, _ = admit("pd_coherent", [("n", n, *N_RANGE)])
+    n = guard(n, ok, 1.0)
+    return guard(pd(jnp.asarray(snr_db) + linear_to_db(n), pfa, 1.0, swerling), ok)

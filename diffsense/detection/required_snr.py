@@ -1,11 +1,16 @@
 """Required single-pulse SNR (detectability factor) for given Pd, Pfa and N.
 
-``method="exact"`` inverts the exact :func:`diffsense.detection.pd` by a bracketed Newton
-iteration on the probit scale, h(x) = Phi^-1(Pd(x)) - Phi^-1(Pd_target) with x in dB (h is
-nearly linear in x, so 3-6 steps reach 1e-10 dB from Shnidman's start). Its derivatives are
-implicit, dx = (dPd_target - dPd/dPfa dPfa - dPd/dN dN) / (dPd/dx), never through the
+``method="exact"`` inverts the exact :func:`diffsense.detection.pd` by a safeguarded Newton
+iteration in x = SNR in dB on the logarithm of the small one of ``Pd - Pfa`` and ``1 - Pd``
+(whichever is smaller at the target), both summed by the series with full relative accuracy
+(``core``, eq. (1) and (2)), with a truncation lowered by the target (``_root_tail_exponent``).
+So the root stays accurate when Pd is within 1e-12 of 1 or barely above Pfa, where Pd itself
+carries none of the needed digits. The bracket is [-300, 300] dB, inside which the root lies for
+every admissible input (at its ends Pd rounds to Pfa and to 1); no finite value is ever
+substituted for an unreachable root (a root at an end would be returned as NaN). Derivatives
+are implicit, dx = (dPd_target - dPd/dPfa dPfa - dPd/dN dN) / (dPd/dx), never through the
 iterations. Swerling 2 has the closed form 1 + S = T(Pfa, N) / T(Pd, N) because
-Pd = Q(N, T/(1+S)).
+Pd = Q(N, T/(1+S)) (the threshold solver keeps T(Pd, N) accurate for Pd near 1).
 
 Approximations (their measured error over the acceptance grid is tabulated in the README):
 
@@ -29,18 +34,19 @@ detector the ore-pass radar uses — see :func:`book_pulses_for_integration_gain
 
 from __future__ import annotations
 
+import math
 from functools import partial
 
 import jax
 import jax.numpy as jnp
-import numpy as np
 from jax.scipy.special import ndtri
 
 from diffsense.errors import DomainError
-from diffsense.numerics.checks import check_range, is_concrete
 from diffsense.numerics.db import DB_PER_NEPER, db10, from_db10
+from diffsense.detection._bounds import tail_exponent
+from diffsense.detection._domain import admit, guard
 from diffsense.detection.core import SWERLING_CASES, _chunked, _mixture_sum, pd_given_threshold
-from diffsense.detection.probability import N_RANGE, PFA_RANGE
+from diffsense.detection.probability import N_RANGE, PFA_RANGE, saturation_db
 from diffsense.detection.threshold import _threshold
 
 __all__ = [
@@ -55,58 +61,82 @@ __all__ = [
 #: Extra pulses the book adds when an SDLA (linear) detector replaces the square law (8.16.13).
 BOOK_SDLA_EXTRA_PULSES = 7
 
-_BRACKET_DB = (-90.0, 130.0)
+# Bracket of the root (dB). For every admissible (pd, pfa, n) the root lies strictly inside:
+# at -300 dB Pd rounds to Pfa < pd and at +300 dB the miss probability rounds to 0 < 1 - pd
+# (probability.saturation_db; float32: +-150 dB). A result at an end is returned as NaN.
 _TOL_DB = 1e-11
 _MAX_ITER = 60
 
 
-def _pd_and_slope(x_db, t, n, pfa, swerling):
-    """Pd and dPd/dx (x in dB) at fixed threshold."""
+def _root_tail_exponent(pd_t, pfa, base):
+    """Truncation exponent for the root finder: ``L + ln(1/m)``, m = min(pd - pfa, 1 - pd).
+
+    The series is truncated where its omitted terms are below exp(-L) absolutely; the root
+    finder compares Pd - Pfa (pd <= 1/2) or 1 - Pd (pd > 1/2) with a target that may be as
+    small as 1e-12 or less, so the truncation is lowered by that target to stay below exp(-L)
+    relative to it. Capped where exp(-L) approaches the smallest normal number.
+    """
+    cap = 0.85 * -math.log(float(jnp.finfo(jnp.result_type(pd_t)).tiny))
+    margin = jnp.minimum(pd_t - pfa, 1.0 - pd_t)
+    return jnp.clip(base - jnp.log(margin), base, cap)
+
+
+def _log_tail_and_slope(x_db, t, n, pfa, high, tail_l, swerling):
+    """g(x) = log(Pd - Pfa) or, for ``high`` targets, -log(1 - Pd); and dg/dx (x in dB)."""
     snr = from_db10(x_db)
-    if swerling == 2:
-        f = lambda s: jax.scipy.special.gammaincc(n, t / (1.0 + s))
-        p, dp = jax.jvp(f, (snr,), (jnp.ones_like(snr),))
-    else:
-        p, (dp, _, _) = _mixture_sum(snr, t, n, pfa, swerling, with_partials="snr")
-    return p, dp * snr / DB_PER_NEPER
+    _, excess, miss, (dp, _, _) = _mixture_sum(snr, t, n, pfa, swerling, with_partials="snr", tail_l=tail_l)
+    small = jnp.where(high, miss, excess)
+    g = jnp.where(high, -jnp.log(small), jnp.log(small))
+    return g, dp * snr / (DB_PER_NEPER * small)
 
 
 def _solve(pd_t, pfa, n, swerling):
+    """Safeguarded Newton iteration on g(x) = g_target, x in dB (g increasing).
+
+    g is the logarithm of the small one of Pd - Pfa and 1 - Pd: both are summed by the series
+    with full relative accuracy (``core``: DOWN and UP walks), so the root keeps its accuracy
+    when Pd is within 1e-12 of 1 or barely above Pfa, where Pd itself carries no digits of
+    them. log(Pd - Pfa) is nearly linear in x at low SNR (Pd - Pfa ~ S) and -log(1 - Pd)
+    nearly quadratic at high SNR, so Newton's method from Shnidman's estimate converges in a few
+    steps; bisection of the bracket takes over where a step would leave it.
+    """
     t = _threshold(pfa, n)
+    lim = saturation_db(pd_t)
     if swerling == 2:
         return db10(t / _threshold(pd_t, n) - 1.0)
-    x0 = _start(pd_t, pfa, n, swerling)
-    z_t = ndtri(pd_t)
+    high = 1.0 - pd_t < pd_t - pfa  # which of 1 - Pd and Pd - Pfa is the small one
+    tail_l = _root_tail_exponent(pd_t, pfa, tail_exponent(pd_t))
+    g_t = jnp.where(high, -jnp.log1p(-pd_t), jnp.log(pd_t - pfa))
+    x0 = _start(pd_t, pfa, n, swerling, lim)
 
     def body(s):
         x, lo, hi, _, it = s
-        p, dp = _pd_and_slope(x, t, n, pfa, swerling)
-        above = p > pd_t
+        g, dg = _log_tail_and_slope(x, t, n, pfa, high, tail_l, swerling)
+        h = g - g_t
+        above = h > 0
         lo = jnp.where(above, lo, x)
         hi = jnp.where(above, x, hi)
-        z = ndtri(p)
-        h = z - z_t
-        dh = dp * jnp.sqrt(2.0 * jnp.pi) * jnp.exp(0.5 * z * z)
-        x_newton = x - h / dh
+        x_newton = x - h / dg
         ok = jnp.isfinite(x_newton) & (x_newton >= lo) & (x_newton <= hi)
         x_new = jnp.where(ok, x_newton, 0.5 * (lo + hi))
-        done = (p == pd_t)
+        done = h == 0
         x_new = jnp.where(done, x, x_new)
         return x_new, lo, hi, jnp.where(done, 0.0, jnp.abs(x_new - x)), it + 1
 
     def cond(s):
         return (s[4] < _MAX_ITER) & jnp.any(s[3] > _TOL_DB)
 
-    lo0 = jnp.full_like(x0, _BRACKET_DB[0])
-    hi0 = jnp.full_like(x0, _BRACKET_DB[1])
+    lo0 = jnp.full_like(x0, -lim)
+    hi0 = jnp.full_like(x0, lim)
     x, *_ = jax.lax.while_loop(cond, body, (x0, lo0, hi0, jnp.full_like(x0, jnp.inf), 0))
-    return x
+    # The root is inside the bracket for every admissible input; an end means it was not found.
+    return jnp.where(jnp.abs(x) < lim - 1e-6, x, jnp.nan)
 
 
-def _start(pd_t, pfa, n, swerling):
+def _start(pd_t, pfa, n, swerling, lim):
     """Shnidman's estimate, clamped into the bracket (used only as a starting point)."""
     x0 = _shnidman(jnp.clip(pd_t, 0.01, 0.999), jnp.clip(pfa, 1e-300, 0.5), n, swerling)
-    return jnp.clip(jnp.nan_to_num(x0, nan=10.0), _BRACKET_DB[0] + 1.0, _BRACKET_DB[1] - 1.0)
+    return jnp.clip(jnp.nan_to_num(x0, nan=10.0), -lim + 1.0, lim - 1.0)
 
 
 def _pd_db(x_db, pfa, n, swerling):
@@ -143,8 +173,17 @@ def required_snr_db(pd, pfa, n=1, swerling=0, method="exact"):
         method: ``"exact"`` (default), ``"albersheim"`` or ``"shnidman"`` — static.
 
     Returns:
-        The detectability factor in dB. Exact method: within 1e-9 dB of a 40-digit mpmath
-        inversion (tests/test_detection_accuracy.py); differentiable implicitly in pd, pfa, n.
+        The detectability factor in dB, between about -230 dB (Pd barely above Pfa) and
+        150 dB (Swerling 1, Pd = 1 - 1e-12, Pfa = 1e-300). Exact method: within 1e-9 dB
+        (relative, for |x| > 1 dB) of a 40-digit mpmath inversion or a closed form over the whole
+        domain, including Pd within 1e-12 of 1 at N = 1e4 (tests/detection/
+        test_detection_accuracy.py, test_detection_domain_properties.py); where Pd - Pfa is
+        below ~1e-8 Pd the inputs themselves limit it (a relative rounding eps of Pd moves the
+        root by eps Pd / (Pd - Pfa) relative in S; Swerling 2 similarly through T(Pfa)/T(Pd) - 1).
+        Differentiable implicitly in pd, pfa, n.
+
+    Domain: the same eagerly and under ``jit``: an eager call outside it (including
+    pd <= pfa) raises DomainError, a traced call returns NaN, value and gradient.
 
     Examples: DiFranco & Rubin's tables (reproduced by Skolnik) give 13.18 dB for a steady
     target at Pd = 0.9, Pfa = 1e-6, one pulse. Swerling 1 with one pulse has the closed form
@@ -157,6 +196,12 @@ def required_snr_db(pd, pfa, n=1, swerling=0, method="exact"):
     >>> closed = 10 * math.log10(math.log(1e-6) / math.log(0.9) - 1)
     >>> s1, closed, abs(s1 - closed) < 1e-9
     (21.1436, 21.1436, True)
+
+    Far beyond the old bracket end of 130 dB, still the closed form (Pfa = 1e-300):
+
+    >>> pd = 1 - 1e-11
+    >>> float(required_snr_db(pd, 1e-300, 1, swerling=1)), 10 * math.log10(math.log(1e-300) / math.log(pd) - 1)
+    (138.393369074833, 138.393369074833)
     """
     where = "required_snr_db"
     if swerling not in SWERLING_CASES:
@@ -169,16 +214,12 @@ def required_snr_db(pd, pfa, n=1, swerling=0, method="exact"):
         return shnidman_snr_db(pd, pfa, n, swerling)
     if method != "exact":
         raise ValueError(f"{where}: method must be 'exact', 'albersheim' or 'shnidman'; got {method!r}")
-    check_range("pfa", pfa, *PFA_RANGE, where=where)
-    check_range("n", n, *N_RANGE, where=where)
-    check_range("pd", pd, 0.0, 1.0 - 1e-12, lo_open=True, where=where)
     dtype = jnp.result_type(pd, pfa, n, float)
     pd_t, pfa, n = jnp.broadcast_arrays(*(jnp.asarray(a, dtype=dtype) for a in (pd, pfa, n)))
-    if is_concrete(pd_t) and is_concrete(pfa):
-        # numpy comparison: inside a trace even operations on concrete arrays are staged
-        if bool(np.any(np.asarray(pd_t) <= np.asarray(pfa))):
-            raise DomainError(f"{where}: pd must exceed pfa (a detector with Pd <= Pfa needs no signal)")
-    return _required_snr(pd_t, pfa, n, 0 if swerling == 5 else swerling)
+    ok, _ = admit(where, [("pfa", pfa, *PFA_RANGE), ("n", n, *N_RANGE), ("pd", pd_t, 0.0, 1.0 - 1e-12, True, False)],
+               greater=[("pd", pd_t, "pfa", pfa)])
+    pd_t, pfa, n = (guard(a, ok, fill) for a, fill in ((pd_t, 0.5), (pfa, 1e-6), (n, 1.0)))
+    return guard(_required_snr(pd_t, pfa, n, 0 if swerling == 5 else swerling), ok)
 
 
 def albersheim_snr_db(pd, pfa, n=1):
@@ -195,14 +236,14 @@ def albersheim_snr_db(pd, pfa, n=1):
     True
     """
     where = "albersheim_snr_db"
-    check_range("pd", pd, 0.1, 0.9, where=where)
-    check_range("pfa", pfa, 1e-7, 1e-3, where=where)
-    check_range("n", n, 1.0, 8096.0, where=where)
     dtype = jnp.result_type(pd, pfa, n, float)
     pd, pfa, n = (jnp.asarray(a, dtype=dtype) for a in (pd, pfa, n))
+    ok, each = admit(where, [("pd", pd, 0.1, 0.9), ("pfa", pfa, 1e-7, 1e-3), ("n", n, 1.0, 8096.0)])
+    pd, pfa, n = (guard(a, m, f) for a, m, f in zip((pd, pfa, n), each, (0.5, 1e-6, 1.0)))
     a = jnp.log(0.62 / pfa)
     b = jnp.log(pd / (1.0 - pd))
-    return -5.0 * jnp.log10(n) + (6.2 + 4.54 / jnp.sqrt(n + 0.44)) * jnp.log10(a + 0.12 * a * b + 1.7 * b)
+    x = -5.0 * jnp.log10(n) + (6.2 + 4.54 / jnp.sqrt(n + 0.44)) * jnp.log10(a + 0.12 * a * b + 1.7 * b)
+    return guard(x, ok)
 
 
 def shnidman_snr_db(pd, pfa, n=1, swerling=0):
@@ -225,12 +266,11 @@ def shnidman_snr_db(pd, pfa, n=1, swerling=0):
     where = "shnidman_snr_db"
     if swerling not in SWERLING_CASES:
         raise ValueError(f"{where}: swerling must be one of {SWERLING_CASES}; got {swerling!r}")
-    check_range("pd", pd, 0.1, 0.99, where=where)
-    check_range("pfa", pfa, 1e-9, 1e-3, where=where)
-    check_range("n", n, 1.0, 100.0, where=where)
     dtype = jnp.result_type(pd, pfa, n, float)
     pd, pfa, n = (jnp.asarray(a, dtype=dtype) for a in (pd, pfa, n))
-    return _shnidman(pd, pfa, n, swerling)
+    ok, each = admit(where, [("pd", pd, 0.1, 0.99), ("pfa", pfa, 1e-9, 1e-3), ("n", n, 1.0, 100.0)])
+    pd, pfa, n = (guard(a, m, f) for a, m, f in zip((pd, pfa, n), each, (0.5, 1e-6, 1.0)))
+    return guard(_shnidman(pd, pfa, n, swerling), ok)
 
 
 def _shnidman(pd, pfa, n, swerling):
@@ -258,8 +298,9 @@ def book_integration_gain_db(n):
     >>> float(book_integration_gain_db(10.0))   # 10 log10(10^0.8)
     8.0
     """
-    check_range("n", n, 1.0, None, where="book_integration_gain_db")
-    return 8.0 * jnp.log10(jnp.asarray(n, dtype=jnp.result_type(n, float)))
+    n = jnp.asarray(n, dtype=jnp.result_type(n, float))
+    ok, _ = admit("book_integration_gain_db", [("n", n, 1.0, None)])
+    return guard(8.0 * jnp.log10(guard(n, ok, 1.0)), ok)
 
 
 def book_pulses_for_integration_gain(gain_db, detector="square_law"):

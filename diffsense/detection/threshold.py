@@ -9,21 +9,27 @@ which for one pulse is ``T = -ln Pfa``, i.e. the envelope threshold ``Vt = sqrt(
 of Brooker eq. (9.14). ``T`` is found by Newton's method on ``log Q`` (concave in T for N >= 1,
 so the iteration converges monotonically after the first step) and is therefore correct for
 Pfa down to 1e-300: the classic shortcut ``gammaincinv(N, 1 - Pfa)`` cannot represent
-``1 - Pfa`` once Pfa < 1.1e-16. Derivatives are implicit:
-``dT/dPfa = -1/f(T)``, ``dT/dN = (dQ/dN)/f(T)`` with ``f`` the Gamma(N, 1) density.
+``1 - Pfa`` once Pfa < 1.1e-16. For a target above 1/2 the equivalent ``log P(N, T) =
+log(1 - Pfa)`` is solved instead, so that T stays accurate for targets within 1e-12 of 1.
+Derivatives are implicit: ``dT/dPfa = -1/f(T)``, ``dT/dN = (dQ/dN)/f(T)`` with ``f`` the
+Gamma(N, 1) density.
 
-Accuracy: the relative error of T equals the relative error of ``jax.scipy.special.gammaincc``
-divided by the logarithmic slope, measured < 3e-13 in Q for N <= 3000 and < 2e-11 at N = 1e4
-against mpmath (tests/test_detection_threshold.py).
+Accuracy: log P and log Q come from ``_gamma.log_gamma_pq``, whose prefactor has no
+cancellation (``jax.scipy.special.gammaincc`` loses up to 2e-11 relative at N = 1e4 in its
+prefactor, and a threshold solved against it was off by 2e-13 relative, enough to put
+``required_snr_db(1 - 1e-12, 0.5, 1e4)`` 2 dB off). Measured against mpmath over N = 1 ... 1e4
+and Pfa = 1e-300 ... 1 - 1e-12: relative error of T below 4e-15
+(tests/detection/test_detection_domain_properties.py).
 """
 
 from __future__ import annotations
 
 import jax
 import jax.numpy as jnp
-from jax.scipy.special import gammaincc, ndtri
+from jax.scipy.special import gammaincc, gammaln, ndtri
 
-from diffsense.numerics.checks import check_range
+from diffsense.detection._domain import admit, guard
+from diffsense.detection._gamma import gamma_q, log_gamma_pq
 from diffsense.detection._logpmf import log_poisson_pmf
 from diffsense.detection._precision import as_float
 
@@ -36,6 +42,9 @@ __all__ = [
 ]
 
 _MAX_NEWTON = 40
+# Largest pulse count of :func:`threshold` (the incomplete-gamma series and fraction need
+# O(sqrt(n)) terms, within their term limit up to here).
+_N_MAX = 1e6
 # Newton stops once a step is below this relative size; gammaincc's own relative error
 # (<= ~2e-11 at n = 1e4) sets the attainable accuracy, and the next quadratic step would be
 # far below it. In float32 the floor is a few ulp (``_STEP_TOL_EPS`` x eps = 9.5e-7): a
@@ -50,37 +59,55 @@ def _log_density(n, t):
     return log_poisson_pmf(n - 1.0, t)
 
 
-def _initial_guess(log_pfa, n):
-    """Start below or near the root: max of two lower-biased estimates.
+def _initial_guess(log_q, log_p, n, lower):
+    """Start near the root: Wilson-Hilferty's cube-root normal quantile and a tail estimate.
 
-    Wilson-Hilferty's cube-root normal quantile (accurate for large n, moderate Pfa) is damped by
-    the factor 0.9 in its excess over n and is not used in the far tail (z > 3 sqrt(n)), where it
-    overshoots into the region where Q underflows; the exponential-tail estimate -ln Pfa + (n-1) ln(-ln Pfa) - lgamma(n) lies below
-    the root for n >= 1 because Q(n, T) exceeds the density at T there.
+    Upper mode (solve Q = q): Wilson-Hilferty's quantile is damped by the factor 0.9 in its
+    excess over n and is not used in the far tail (z > 3 sqrt(n)), where it overshoots into the
+    region where Q underflows; the exponential-tail estimate -ln q + (n-1) ln(-ln q) - lgamma(n)
+    lies below the root for n >= 1 because Q(n, T) exceeds the density at T there. Lower mode
+    (solve P = p for small p): P(n, T) <= T^n / Gamma(n + 1), so ``(p Gamma(n+1))^(1/n)`` lies
+    below the root; Wilson-Hilferty's quantile, damped by 1.1 in its (negative) excess over n,
+    is used where it is larger (moderate p).
     """
-    z = -ndtri(jnp.exp(log_pfa))
     c = 1.0 / (9.0 * n)
-    wh = n * jnp.maximum(1.0 - c + z * jnp.sqrt(c), 0.05) ** 3
-    wh = n + 0.9 * (wh - n)
-    lp = -log_pfa
-    tail = lp + (n - 1.0) * jnp.log(jnp.maximum(lp, 1.0)) - jax.scipy.special.gammaln(n)
+    z = -ndtri(jnp.exp(log_q))
+    wh_raw = n * jnp.maximum(1.0 - c + z * jnp.sqrt(c), 0.05) ** 3
+    wh = n + 0.9 * (wh_raw - n)
+    lq = -log_q
+    tail = lq + (n - 1.0) * jnp.log(jnp.maximum(lq, 1.0)) - gammaln(n)
     far_tail = z > 3.0 * jnp.sqrt(n)
-    return jnp.maximum(jnp.where(far_tail, tail, jnp.maximum(wh, tail)), 1e-3)
+    upper = jnp.where(far_tail, tail, jnp.maximum(wh, tail))
+    small = jnp.exp((log_p + gammaln(n + 1.0)) / n)
+    start = jnp.where(lower, jnp.maximum(small, n + 1.1 * (wh_raw - n)), upper)
+    return jnp.maximum(start, 1e-300)
 
 
-def _solve_threshold(pfa, n):
-    """Bracketed Newton iteration on g(T) = log Q(n, T) - log Pfa (g decreasing and concave)."""
-    log_pfa = jnp.log(pfa)
-    t0 = _initial_guess(log_pfa, n)
+def _solve_threshold(q, n):
+    """Bracketed Newton iteration on g(T) = log F(n, T) - log F_target (F = Q or P, see below).
+
+    For q <= 1/2 it solves ``log Q(n, T) = log q`` (g decreasing and concave); for q > 1/2 the
+    equivalent ``log P(n, T) = log(1 - q)`` (increasing and concave; 1 - q is exact there), so
+    that T keeps full accuracy when q is within 1e-12 of 1 (the Swerling 2 threshold ratio of
+    ``required_snr`` solves Q(n, T) = Pd). Both logarithms come from ``_gamma.log_gamma_pq``.
+    """
+    lower = q > 0.5
+    log_q = jnp.log(q)
+    log_p = jnp.log1p(-q)
+    log_target = jnp.where(lower, log_p, log_q)
+    sign = jnp.where(lower, 1.0, -1.0)  # sign of dg/dT
+    t0 = _initial_guess(log_q, log_p, n, lower)
 
     def body(state):
         t, lo, hi, _, it = state
-        logq = jnp.log(gammaincc(n, t))
-        g = logq - log_pfa
+        log_pp, log_qq = log_gamma_pq(n, t)
+        log_f = jnp.where(lower, log_pp, log_qq)
+        g = log_f - log_target
         finite = jnp.isfinite(g)
-        lo = jnp.where(finite & (g > 0), t, lo)
-        hi = jnp.where(~finite | (g <= 0), t, hi)
-        slope = -jnp.exp(_log_density(n, t) - logq)  # d log Q / dT
+        below = finite & (sign * g < 0)  # root lies above t
+        lo = jnp.where(below, t, lo)
+        hi = jnp.where(~below, t, hi)
+        slope = sign * jnp.exp(_log_density(n, t) - log_f)  # d log F / dT
         t_newton = t - g / slope
         ok = finite & jnp.isfinite(t_newton) & (t_newton >= lo) & (t_newton <= hi)
         fallback = jnp.where(jnp.isfinite(hi), 0.5 * (lo + hi), 2.0 * t)
@@ -91,7 +118,7 @@ def _solve_threshold(pfa, n):
 
     def cond(state):
         t, _, _, delta, it = state
-        return (it < _MAX_NEWTON) & jnp.any(delta > tol * jnp.maximum(t, 1.0))
+        return (it < _MAX_NEWTON) & jnp.any(delta > tol * t)
 
     init = (t0, jnp.zeros_like(t0), jnp.full_like(t0, jnp.inf), jnp.full_like(t0, jnp.inf), 0)
     t, _, _, _, it = jax.lax.while_loop(cond, body, init)
@@ -119,11 +146,12 @@ def threshold(pfa, n=1):
 
     Args:
         pfa: false-alarm probability per detection decision, 1e-300 <= pfa < 1.
-        n: number of pulses integrated noncoherently (real, >= 1; non-integer values give the
-           continuous relaxation of the Gamma(n, 1) law).
+        n: number of pulses integrated noncoherently (real, 1 ... 1e6; non-integer values give
+           the continuous relaxation of the Gamma(n, 1) law).
 
     Returns:
         ``T`` with ``Q(n, T) = pfa`` (dimensionless, in units of the mean noise power of one pulse).
+        Outside the domain an eager call raises DomainError and a traced call returns NaN.
 
     Examples: one pulse, Pfa = 1e-10 gives T = -ln Pfa = 23.03, so the envelope threshold for
     noise variance psi = 1 V^2 is sqrt(2 T) = 6.79 V (Brooker 9.2.2 prints both numbers). For
@@ -137,10 +165,10 @@ def threshold(pfa, n=1):
     >>> float(gammaincc(10.0, float(threshold(1e-6, 10))) / 1e-6)
     1.0000000
     """
-    check_range("pfa", pfa, 1e-300, 1.0, hi_open=True, where="threshold")
-    check_range("n", n, 1.0, None, where="threshold")
     pfa, n = jnp.broadcast_arrays(*as_float(pfa, n))
-    return _threshold(pfa, n)
+    ok, _ = admit("threshold", [("pfa", pfa, 1e-300, 1.0, False, True), ("n", n, 1.0, _N_MAX)])
+    pfa, n = guard(pfa, ok, 0.5), guard(n, ok, 1.0)
+    return guard(_threshold(pfa, n), ok)
 
 
 def pfa_from_threshold(threshold_value, n=1):
@@ -152,10 +180,9 @@ def pfa_from_threshold(threshold_value, n=1):
     >>> float(pfa_from_threshold(5.0)), math.exp(-5.0)
     (0.006737947, 0.006737947)
     """
-    check_range("threshold_value", threshold_value, 0.0, None, where="pfa_from_threshold")
-    check_range("n", n, 1.0, None, where="pfa_from_threshold")
     t, n = as_float(threshold_value, n)
-    return gammaincc(n, t)
+    ok, (ok_t, ok_n) = admit("pfa_from_threshold", [("threshold_value", t, 0.0, None), ("n", n, 1.0, None)])
+    return guard(gamma_q(guard(n, ok_n, 1.0), guard(t, ok_t, 1.0)), ok)
 
 
 def voltage_threshold(pfa, noise_variance_v2=1.0):
@@ -168,10 +195,11 @@ def voltage_threshold(pfa, noise_variance_v2=1.0):
     >>> float(voltage_threshold(1e-10, 1.0))   # Brooker 9.2.2: 6.79 V
     6.79
     """
-    check_range("pfa", pfa, 0.0, 1.0, lo_open=True, hi_open=True, where="voltage_threshold")
-    check_range("noise_variance_v2", noise_variance_v2, 0.0, None, lo_open=True, where="voltage_threshold")
     pfa, psi = as_float(pfa, noise_variance_v2)
-    return jnp.sqrt(-2.0 * psi * jnp.log(pfa))
+    ok, (ok_p, ok_v) = admit("voltage_threshold", [("pfa", pfa, 0.0, 1.0, True, True),
+                                                  ("noise_variance_v2", psi, 0.0, None, True, False)])
+    pfa, psi = guard(pfa, ok_p, 0.5), guard(psi, ok_v, 1.0)
+    return guard(jnp.sqrt(-2.0 * psi * jnp.log(pfa)), ok)
 
 
 def pfa_from_false_alarm_time(false_alarm_time_s, bandwidth_hz):
@@ -182,10 +210,10 @@ def pfa_from_false_alarm_time(false_alarm_time_s, bandwidth_hz):
     >>> float(pfa_from_false_alarm_time(9 * 3600.0, 0.613 / 2e-6))
     1.0e-10
     """
-    check_range("false_alarm_time_s", false_alarm_time_s, 0.0, None, lo_open=True, where="pfa_from_false_alarm_time")
-    check_range("bandwidth_hz", bandwidth_hz, 0.0, None, lo_open=True, where="pfa_from_false_alarm_time")
     tfa, b = as_float(false_alarm_time_s, bandwidth_hz)
-    return 1.0 / (tfa * b)
+    ok, _ = admit("pfa_from_false_alarm_time", [("false_alarm_time_s", tfa, 0.0, None, True, False),
+                                                ("bandwidth_hz", b, 0.0, None, True, False)])
+    return guard(1.0 / (tfa * b), ok)
 
 
 def false_alarm_time_s(pfa, bandwidth_hz):
@@ -196,7 +224,6 @@ def false_alarm_time_s(pfa, bandwidth_hz):
     >>> float(false_alarm_time_s(1e-10, 1.0 / 0.3e-6)) / 60.0
     50.0
     """
-    check_range("pfa", pfa, 0.0, 1.0, lo_open=True, hi_open=True, where="false_alarm_time_s")
-    check_range("bandwidth_hz", bandwidth_hz, 0.0, None, lo_open=True, where="false_alarm_time_s")
     p, b = as_float(pfa, bandwidth_hz)
-    return 1.0 / (p * b)
+    ok, _ = admit("false_alarm_time_s", [("pfa", p, 0.0, 1.0, True, True), ("bandwidth_hz", b, 0.0, None, True, False)])
+    return guard(1.0 / (p * b), ok)

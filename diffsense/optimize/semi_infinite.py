@@ -18,11 +18,14 @@ Finding p* reliably (:func:`worst_points`), in a fixed-shape, jit/vmap-able prog
    multipath lobes and the R⁻⁴ law are both natural in log range);
 2. the grid's local minima (a point no higher than its axis neighbours; a box face counts as a
    side with no neighbour) rank first, the other points after them by value;
-3. the ``n_worst`` best-ranked points are refined by a safeguarded Newton iteration on ∇_u v = 0
-   (u the grid coordinates: p or log p), each confined to the grid cells around its start and to
-   the box: a Newton step where the Hessian is positive definite, a steepest-descent step of one
-   cell otherwise, halved until v does not increase. A minimum between grid points is therefore
-   found to machine precision when the grid resolves the basin it lies in — a grid coarser than
+3. the ``n_worst`` best-ranked points are refined by exact line minimisation along each grid
+   coordinate u (p or log p) in turn — one sweep for an interval, four for a box — each by
+   Newton's method on the derivative ∂v/∂u_i = 0 safeguarded by bisection inside the bracket of
+   the neighbouring grid points (a grid local minimum has ∂v/∂u_i < 0 at its left neighbour and
+   > 0 at its right one). Newton alone is not enough: near a deep multipath null v behaves like
+   log|u − u₀|, concave away from the null, where an unguarded Newton step goes the wrong way.
+   A minimum between grid points is therefore found to machine precision when the grid resolves
+   the basin it lies in — a grid coarser than
    the function's structure can miss a minimum, which is why designs are re-checked afterwards on
    a dense grid independent of this one (:func:`dense_check`) and missed points are handed back
    as extra candidates (``extra`` points enter step 2 as candidates).
@@ -35,7 +38,7 @@ constraints are harmless to the augmented Lagrangian.
 
 from __future__ import annotations
 
-from typing import Callable, NamedTuple, Sequence
+from typing import Callable, NamedTuple, Optional, Sequence
 
 import jax
 import jax.numpy as jnp
@@ -77,7 +80,7 @@ class Box(NamedTuple):
         axes = [np.linspace(lo[i], hi[i], self.counts[i]) for i in range(self.dim)]
         mesh = np.meshgrid(*axes, indexing="ij")
         u = np.stack([m.ravel() for m in mesh], axis=-1)
-        return np.where(self.log, np.exp(u), u)
+        return np.where(self.log, np.exp(np.where(self.log, u, 0.0)), u)
 
     def cell(self) -> np.ndarray:
         """Grid spacing in u per dimension (d,)."""
@@ -120,44 +123,60 @@ def _local_minimum_mask(values, counts):
     return mask.ravel()
 
 
-def _refine(fn_u, u0, lo, hi, cell, steps: int):
-    """Safeguarded Newton descent of ``fn_u`` from ``u0`` inside [u0 − 1.5 cell, u0 + 1.5 cell] ∩
-    [lo, hi] (module docstring)."""
-    a = jnp.maximum(lo, u0 - 1.5 * cell)
-    b = jnp.minimum(hi, u0 + 1.5 * cell)
-    grad_fn = jax.grad(fn_u)
-    hess_fn = jax.jacfwd(grad_fn)
+def _line_minimum(fn_u, u, i, a, b, iters: int):
+    """Minimise ``fn_u`` along coordinate ``i`` of ``u`` inside [a, b] (scalars): Newton on the
+    derivative safeguarded by bisection. With g = ∂f/∂u_i of opposite signs at the ends (g(a) < 0 <
+    g(b)) the bracket holds a minimum and shrinks by at least half per step that is not a Newton
+    step; otherwise the lower end is taken. The result is kept only if f does not increase."""
+    e = jnp.zeros_like(u).at[i].set(1.0)
 
-    def body(_, carry):
-        u, f = carry
-        g = grad_fn(u)
-        H = hess_fn(u)
+    def f_t(t):
+        return fn_u(u + (t - u[i]) * e)
+
+    def g_t(t):
+        return jax.jvp(f_t, (t,), (jnp.ones_like(t),))[1]
+
+    def gh_t(t):
+        return jax.jvp(g_t, (t,), (jnp.ones_like(t),))
+
+    ga, gb = g_t(a), g_t(b)
+    bracketed = (ga < 0) & (gb > 0)
+
+    def body(_, state):
+        lo, hi, t = state
+        g, h = gh_t(t)
         g = jnp.where(jnp.isfinite(g), g, 0.0)
-        H = jnp.where(jnp.isfinite(H), H, 0.0)
-        # Newton where the Hessian is positive definite, else one cell of steepest descent
-        eig_min = jnp.min(jnp.linalg.eigvalsh(0.5 * (H + H.T)))
-        newton = -jnp.linalg.solve(jnp.where(eig_min > 0, H, jnp.eye(u.size)), g)
-        gnorm = jnp.sqrt(jnp.sum((g * cell) ** 2))
-        descent = -g * cell**2 / jnp.where(gnorm > 0, gnorm, 1.0)
-        step = jnp.where(eig_min > 0, newton, descent)
+        lo = jnp.where(g < 0, t, lo)
+        hi = jnp.where(g > 0, t, hi)
+        newton = t - g / jnp.where(h > 0, h, 1.0)
+        ok = (h > 0) & (newton > lo) & (newton < hi)
+        t = jnp.where(g == 0, t, jnp.where(ok, newton, 0.5 * (lo + hi)))
+        return lo, hi, t
 
-        def halve(state):
-            t, _, _ = state
-            t = 0.5 * t
-            cand = jnp.clip(u + t * step, a, b)
-            return t, cand, fn_u(cand)
-
-        cand = jnp.clip(u + step, a, b)
-        t, cand, f_c = lax.while_loop(lambda s: (~(s[2] <= f)) & (s[0] > 1.0 / 1024.0), halve,
-                                      (1.0, cand, fn_u(cand)))
-        better = f_c <= f
-        return jnp.where(better, cand, u), jnp.where(better, f_c, f)
-
-    u, f = lax.fori_loop(0, steps, body, (u0, fn_u(u0)))
-    return u
+    t0 = jnp.clip(u[i], a, b)
+    _, _, t = lax.fori_loop(0, iters, body, (a, b, t0))
+    ends = jnp.where(f_t(a) <= f_t(b), a, b)
+    t = jnp.where(bracketed, t, ends)
+    cand = u.at[i].set(t)
+    return jnp.where(fn_u(cand) <= fn_u(u), cand, u)
 
 
-def worst_points(fn: Callable, theta, bx: Box, n_worst: int = 3, *, extra=None, newton_steps: int = 8):
+def _refine(fn_u, u0, lo, hi, cell, sweeps: int, iters: int = 40):
+    """Polish a grid minimum: ``sweeps`` cycles of exact line minimisation along each coordinate
+    (:func:`_line_minimum`) inside [u0 − cell, u0 + cell] ∩ [lo, hi] (for a grid local minimum
+    this bracket holds the minimum of its basin along each axis)."""
+    a = jnp.maximum(lo, u0 - cell)
+    b = jnp.minimum(hi, u0 + cell)
+
+    def sweep(_, u):
+        for i in range(u0.size):
+            u = _line_minimum(fn_u, u, i, a[i], b[i], iters)
+        return u
+
+    return lax.fori_loop(0, sweeps, sweep, u0)
+
+
+def worst_points(fn: Callable, theta, bx: Box, n_worst: int = 3, *, extra=None, sweeps: Optional[int] = None):
     """The ``n_worst`` lowest local minima of ``fn(theta, p)`` (p of shape (d,)) over the box ``bx``
     and where they lie: ``(values (n_worst,), points (n_worst, d))``, sorted by value (module
     docstring). ``theta`` is any pytree (the design); the search itself runs on
@@ -182,16 +201,17 @@ def worst_points(fn: Callable, theta, bx: Box, n_worst: int = 3, *, extra=None, 
     def fn_u(u):
         return fn(theta_s, bx.from_u(u))
 
-    u_best = jax.vmap(lambda u0: _refine(fn_u, u0, lo, hi, cell, newton_steps))(bx.to_u(cands[idx]))
+    n_sweeps = (1 if bx.dim == 1 else 4) if sweeps is None else sweeps
+    u_best = jax.vmap(lambda u0: _refine(fn_u, u0, lo, hi, cell, n_sweeps))(bx.to_u(cands[idx]))
     points = lax.stop_gradient(jnp.clip(bx.from_u(u_best), bx.lower, bx.upper))
     vals = jax.vmap(lambda q: fn(theta, q))(points)
     order = jnp.argsort(lax.stop_gradient(vals))
     return vals[order], points[order]
 
 
-def worst_values(fn: Callable, theta, bx: Box, n_worst: int = 3, *, extra=None, newton_steps: int = 8):
+def worst_values(fn: Callable, theta, bx: Box, n_worst: int = 3, *, extra=None, sweeps: Optional[int] = None):
     """The values of :func:`worst_points` only."""
-    return worst_points(fn, theta, bx, n_worst, extra=extra, newton_steps=newton_steps)[0]
+    return worst_points(fn, theta, bx, n_worst, extra=extra, sweeps=sweeps)[0]
 
 
 class DenseCheck(NamedTuple):
@@ -222,7 +242,7 @@ def dense_check(fn_batch: Callable, bx: Box, *, n_points: int = 10_001, refine: 
         axes.append(np.concatenate([[lo[i]], inner, [hi[i]]]))
     mesh = np.meshgrid(*axes, indexing="ij")
     u = np.stack([m.ravel() for m in mesh], axis=-1)
-    pts = np.where(bx.log, np.exp(u), u)
+    pts = np.where(bx.log, np.exp(np.where(bx.log, u, 0.0)), u)
     pts = np.clip(pts, bx.lower, bx.upper)
     vals = np.asarray(fn_batch(pts), dtype=float)
     bad = ~np.isfinite(vals)

@@ -178,11 +178,15 @@ def stationarity_multipliers(gradient, jacobian):
     return mu, residual
 
 
-def _linearised_kkt(problem: Problem, result: Result, theta, options: SolverOptions):
-    """The solver's scaled KKT system at ``result``: ``parts(z, θ) -> (∇_z L₀, (G, H))`` with the
-    multipliers held, a ``derivative(r, c)`` solving :func:`active_set_derivative` with its W
-    and A at z and the result's active set, and the map of a scaled (dz, dμ̃) to physical
-    (dx, dλ, dν)."""
+def linearised_kkt(problem: Problem, result: Result, theta, options: SolverOptions):
+    """The solver's scaled KKT system at ``result``, linearised for implicit differentiation:
+    returns ``(parts, z, derivative, unpack)`` with ``parts(z, θ) -> (∇_z L₀, (G, H))`` the
+    Lagrangian gradient and constraints in the solver's scaled variables z (multipliers held),
+    ``z`` the scaled solution, ``derivative(r, c)`` solving :func:`active_set_derivative` with
+    its W and A at z and the result's active set for right-hand sides r = ∂(∇_z L₀)·dθ,
+    c = ∂(G, H)·dθ, and ``unpack(dz, dμ̃)`` mapping a scaled step to physical (dx, dλ, dν).
+    A directional derivative dx*/dθ·δ is ``unpack(*derivative(*jvp(parts(z, ·), θ, δ)))[0]``.
+    ``result`` must come from ``solve(problem, ..., theta, options)``; jit/vmap-able."""
     active, at_lo, at_hi = _active_masks(problem, result, options)
     z, lam, nu = _scaled_point(problem, result)
     m = lam.shape[0]
@@ -212,6 +216,9 @@ def _linearised_kkt(problem: Problem, result: Result, theta, options: SolverOpti
     return parts, z, derivative, unpack
 
 
+_linearised_kkt = linearised_kkt  # former private name
+
+
 def shadow_prices(problem: Problem, result: Result, theta):
     """df*/dθ by the envelope theorem: ∂/∂θ [f + λᵀg + νᵀh] at the optimum (pytree like θ).
 
@@ -229,7 +236,7 @@ def kkt_sensitivity(problem: Problem, result: Result, theta,
     singular (degenerate active set) the entries are not finite."""
     if theta is None:
         raise DomainError("kkt_sensitivity: the problem has no parameters (theta is None)")
-    parts, z, derivative, unpack = _linearised_kkt(problem, result, theta, options)
+    parts, z, derivative, unpack = linearised_kkt(problem, result, theta, options)
     flat_theta, unravel = ravel_pytree(theta)
     r, c = jax.jacfwd(lambda ft: parts(z, unravel(ft)))(flat_theta)  # (n, q), (m + p, q)
     dz, dmu = derivative(r, c)
@@ -260,7 +267,7 @@ def differentiable_solver(problem: Problem, options: SolverOptions = SolverOptio
         x0, theta = primals
         _, dtheta = tangents
         r = solve(problem, x0, theta, options)
-        parts, z, derivative, unpack = _linearised_kkt(problem, r, theta, options)
+        parts, z, derivative, unpack = linearised_kkt(problem, r, theta, options)
         _, (r_dot, c_dot) = jax.jvp(lambda th: parts(z, th), (theta,), (dtheta,))
         dx, dlam, dnu = unpack(*derivative(r_dot, c_dot))
         _, df = jax.jvp(lambda th: _lagrangian_phys(problem, r.x, r.lam, r.nu, th), (theta,), (dtheta,))
@@ -270,4 +277,4 @@ def differentiable_solver(problem: Problem, options: SolverOptions = SolverOptio
 
 
 __all__ = ["Sensitivity", "Solution", "kkt_sensitivity", "shadow_prices", "differentiable_solver", "kkt_matrix",
-           "active_set_derivative", "stationarity_multipliers"]
+           "active_set_derivative", "stationarity_multipliers", "linearised_kkt"]

@@ -167,7 +167,7 @@ def band_radiance_w_m2_sr(wavelength_lo_m, wavelength_hi_m, temperature_k, *, n_
     >>> round(float(band_radiance_w_m2_sr(1e-8, 1.0, 300.0)) * math.pi / (sigma * 300.0**4), 9)
     1.0
     """
-    scale = 2.0 * _K**4 * temperature_k**4 / (_H**3 * _C**2)
+    scale = _RADIANCE_SCALE * temperature_k**4
     integral = _band_quadrature(wavelength_lo_m, wavelength_hi_m, temperature_k, _energy_integrand, n_panels)
     return scale * integral
 
@@ -201,7 +201,7 @@ def band_radiance_temperature_derivative(wavelength_lo_m, wavelength_hi_m, tempe
     analyticity, so the same error bound) as :func:`band_radiance_w_m2_sr`. Multiply by π for
     the exitance derivative dM/dT.
     """
-    scale = 2.0 * _K**4 * temperature_k**3 / (_H**3 * _C**2)
+    scale = _RADIANCE_SCALE * temperature_k**3
 
     def integrand(x):
         b = bose_einstein_occupation(x)
@@ -220,6 +220,7 @@ def band_radiance_temperature_derivative(wavelength_lo_m, wavelength_hi_m, tempe
 # ∫_0^x t²/(e^t − 1) dt = Σ_k B_k x^{k+2}/((k+2)k!) for x < 2 (terms to B_40, truncation
 # < (1/π)^40). Relative error < 1e-14 against mpmath (tests/sensors/infrared/test_infrared.py).
 
+_RADIANCE_SCALE = 2.0 * _K**4 / (_H**3 * _C**2)  # 2k⁴/(h³c²), a Python float: k⁴ and h³ underflow in float32
 _PHOTON_SCALE = 2.0 * _K**3 / (_H**3 * _C**2)  # L_q = scale · T³ · ∫ x²/(e^x − 1) dx
 _ZETA3 = 1.2020569031595942853997
 

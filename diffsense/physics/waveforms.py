@@ -27,10 +27,12 @@ import jax.numpy as jnp
 from diffsense.numerics.checks import check_range, is_concrete
 from diffsense.numerics.db import db10
 from diffsense.physics.constants import SPEED_OF_LIGHT_M_S
+from diffsense.physics.received_pulse import received_pulse_width_s
 
 __all__ = [
     "range_resolution_bandwidth_m",
     "range_resolution_pulse_m",
+    "range_resolution_received_m",
     "unambiguous_range_m",
     "max_prf_hz",
     "duty_cycle",
@@ -117,6 +119,38 @@ def range_resolution_pulse_m(pulse_width_s, propagation_speed_m_s=_C):
     _pos("pulse_width_s", pulse_width_s, w)
     _pos("propagation_speed_m_s", propagation_speed_m_s, w)
     return 0.5 * propagation_speed_m_s * jnp.asarray(pulse_width_s)
+
+
+def range_resolution_received_m(pulse_width_s, bandwidth_hz, receiver_filter="matched", propagation_speed_m_s=_C):
+    """Range resolution of a rectangular pulse as the receiver passes it: ``δR = c W / 2`` (m).
+
+    W is the half-amplitude width of the echo after the IF filter
+    (:func:`diffsense.physics.received_pulse.received_pulse_width_s`): τ for the ideal matched
+    filter, so that δR = c τ / 2 (:func:`range_resolution_pulse_m`); a filter narrower than the
+    pulse (β τ ≪ 1) smears the echo over about its own impulse response and δR ≈ c · 0.5/β (two
+    tuned circuits). The same length is the range gate, the clutter-cell length and the split
+    gate of a range tracker.
+
+    Args:
+        pulse_width_s: transmitted pulse length τ (s), in (0, ∞).
+        bandwidth_hz: IF 3 dB bandwidth β (Hz), in (0, ∞); β τ in the filter's domain.
+        receiver_filter: ``"matched"`` or a filter of
+            :data:`diffsense.physics.received_pulse.RECEIVER_FILTERS` (static).
+        propagation_speed_m_s: wave speed c (m/s), in (0, ∞).
+
+    Source: book eq (11.4) and §8.16.3 (c τ / 2 for the matched pulse); the filtered pulse
+    shapes of Skolnik (2001) §5.2 (see :mod:`diffsense.physics.received_pulse`).
+
+    One tuned circuit, W = τ + ln(1 + exp(−π β τ))/(π β), with β τ = 0.5 (c = 3e8 m/s):
+
+    >>> import math
+    >>> w = 1e-6 + math.log(1 + math.exp(-math.pi * 0.5)) / (math.pi * 0.5e6)
+    >>> float(range_resolution_received_m(1e-6, 0.5e6, "single_tuned", 3e8)), 1.5e8 * w
+    (168.035, 168.035)
+    """
+    _pos("propagation_speed_m_s", propagation_speed_m_s, "range_resolution_received_m")
+    return range_resolution_pulse_m(received_pulse_width_s(pulse_width_s, bandwidth_hz, receiver_filter),
+                                    propagation_speed_m_s)
 
 
 def unambiguous_range_m(prf_hz, propagation_speed_m_s=_C):

@@ -15,9 +15,12 @@ from typing import Dict, List, Optional
 import numpy as np
 
 from diffsense.design.model import DesignModel
+from diffsense.design.monte_carlo import attach_probabilities
 from diffsense.design.record import design_table
 from diffsense.design.spec import load_spec
 from diffsense.report import figures
+from diffsense.report.figures import coverage_applies, coverage_skip_reason
+from diffsense.report.interval_figures import interval_caption, interval_margin
 from diffsense.report.batch import BatchEvaluator, row
 from diffsense.report.content import report_blocks
 from diffsense.report.inputs import design_inputs, input_evaluator
@@ -99,7 +102,7 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
         x, combo_index = np.asarray(result.x, dtype=float), int(result.combo_index)
         multipliers = np.asarray(result.multipliers, dtype=float)
         report.update(mode="optimum", converged=bool(result.converged), feasible=bool(result.feasible),
-                      unmet=list(result.unmet), candidates=result.candidates,
+                      unmet=list(result.unmet), candidates=result.candidates, canonical=result.canonical,
                       multistart={"starts": result.starts, "converged": result.starts_converged,
                                   "reached_best": result.starts_at_best},
                       optimize_time_s=time.perf_counter() - t0)
@@ -115,7 +118,12 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
     req_values = np.asarray(req_values, dtype=float)
     report["design"] = design_table(model, x, combo_index)
     report["choices"] = dict(model.combinations[combo_index].options)
-    report["requirements"] = model.requirement_rows(req_values)
+    checks = model.intervals.check(x, model.combo_table[combo_index], req_values) if model.intervals.indices else {}
+    report["requirements"] = model.requirement_rows(req_values, checks=checks)
+    try:
+        attach_probabilities(model, report, x, combo_index)
+    except Exception as exc:  # noqa: BLE001 - a failed section must not stop the report
+        unavailable.append({"section": "requirements under uncertainty (Monte Carlo check)", "reason": _reason(exc)})
     if not optimize:
         report["feasible"] = all(r["met"] for r in report["requirements"])
     report["objective"] = {"text": spec.objective.text, "value": float(objective), "unit": _objective_unit(model)}
@@ -303,7 +311,7 @@ def _figures(out_dir: Path, model: DesignModel, inputs, batch, report: dict, jac
                 "0.9, 0.5 and 0.1; the star is the required operating point.",
                 lambda p: figures.roc(p, roc_sweep(batch, inputs, case), required_pd=req_pd,
                                       title=f"{spec.title}: ROC{tag}"))
-        if spec.sensor == "radar":
+        if spec.sensor == "radar" and coverage_applies(spec.scenes[case]):
             attempt(f"coverage_{case}", f"Coverage chart (Blake){tag}",
                     f"Range-height coverage{tag} over the 4/3 earth. Assumptions: the main margin requirement "
                     "defines detection; Gaussian elevation beam of the chain's elevation beamwidth, boresight half a "
@@ -314,9 +322,11 @@ def _figures(out_dir: Path, model: DesignModel, inputs, batch, report: dict, jac
                     lambda p: figures.blake_chart(p, blake_coverage(batch, model, inputs, case),
                                                   title=f"{spec.title}: coverage over the 4/3 earth{tag}"))
         else:
-            skipped.append({"figure": f"Coverage chart (Blake){tag}",
-                            "reason": f"a Blake range-height chart describes a radar beam over the refracting "
-                                      f"atmosphere; it does not apply to a {spec.sensor}"})
+            skipped.append({"figure": f"Coverage chart (Blake){tag}", "reason": coverage_skip_reason(spec.scenes[case])})
+    for j, row in enumerate(report["requirements"]):
+        if row.get("curve"):
+            attempt(f"interval_{j}", f"'{row['name']}' over its interval",
+                    interval_caption(row), lambda p, row=row: interval_margin(p, row, title=f"{spec.title}: {row['name']}"))
     if jac is not None:
         labels = [f"{i.name} = {si_text(i.value, i.unit)}" for i in inputs]
         status = jac["fd_check"].get("status")

@@ -69,6 +69,14 @@ def _summary(report: dict) -> List[tuple]:
             items.append(f"Starts reaching the best design: {ms['reached_best']} of {ms['starts']}")
         if report.get("unmet"):
             items.append("Requirements not met: " + "; ".join(report["unmet"]))
+        c = report.get("canonical")
+        if c:
+            items.append(f"Choice among equally good designs: {c['rule']}. The optimal set has {c['flat_directions']} "
+                         f"flat direction(s); the smallest scaled slack of those requirements went from "
+                         f"{fmt(c['smallest_slack_before'])} to {fmt(c['smallest_slack_after'])}.")
+        else:
+            items.append("Choice among equally good designs: none needed (no flat direction of the optimal set was "
+                         "found at the optimum).")
     else:
         items.append(f"Every requirement met at this design: {fmt(report['feasible'])}")
     blocks.append(("ul", items))
@@ -88,6 +96,15 @@ def _design(report: dict) -> List[tuple]:
             ("table", ["parameter", "value", "unit", "kind", "lower", "upper", "at the optimum"], rows)]
 
 
+def _worst_text(r: dict) -> str:
+    """`` (over range_m 10000-20000 m: worst at 11968.2 m, 10001 points)`` for an interval requirement."""
+    if "worst_at" not in r:
+        return ""
+    parts = [f"{k} {fmt(lo)}-{fmt(hi)} {u}" for k, (lo, hi, u) in r["over"].items()]
+    where = ", ".join(f"{fmt(v)} {r['over'][k][2]}" for k, v in r["worst_at"].items())
+    return f" (over {'; '.join(parts)}: worst at {where}, {r['dense_points']} points re-checked)"
+
+
 def _requirements(report: dict) -> List[tuple]:
     post = report.get("post_optimal") or {}
     shadow = {s["requirement"]: s for s in post.get("shadow_prices") or []}
@@ -95,7 +112,7 @@ def _requirements(report: dict) -> List[tuple]:
     rows = []
     for r in report["requirements"]:
         s = shadow.get(r["name"], {})
-        rows.append([r["name"], f"{r['case']}.{r['output']}", r["value"], f"{_SENSE[r['sense']]} {fmt(r['limit'])}",
+        rows.append([r["name"] + _worst_text(r), f"{r['case']}.{r['output']}", r["value"], f"{_SENSE[r['sense']]} {fmt(r['limit'])}",
                      unit_text(r["unit"]), r["slack"], r["met"], s.get("active", None) if s else None,
                      mult.get(r["name"]), s.get("d_objective_d_limit")])
     blocks = [("h2", "Requirements"),
@@ -109,6 +126,26 @@ def _requirements(report: dict) -> List[tuple]:
                             "is the optimiser's own (objective divided by its value at the initial design, per "
                             "normalised requirement)."))
     return blocks
+
+
+def _probabilities(report: dict) -> List[tuple]:
+    """Each requirement's probability of being met under the declared uncertainty (the rows
+    that carry a Monte Carlo ``probability`` check, :mod:`diffsense.design.monte_carlo`)."""
+    checked = [r for r in report["requirements"] if r.get("probability")]
+    if not checked:
+        return []
+    rows = [[r["name"], r["probability"]["asked"], r["probability"]["estimate"], r["probability"]["interval"][0],
+             r["probability"]["interval"][1], r["probability"]["samples"], r["probability"]["status"] or ""]
+            for r in checked]
+    first = checked[0]["probability"]
+    inputs = "; ".join(f"{u['parameter']}: {u['distribution']} ({u['spec']})" for u in report.get("uncertain", []))
+    return [("h2", "Requirements under uncertainty"),
+            ("p", f"Uncertain inputs: {inputs}. Probability that each requirement is met, from an independent Monte "
+                  f"Carlo sample of {first['samples']} draws (seed {first['seed']}), with its "
+                  f"{first['confidence']:g} Wilson interval; a requirement that asks for a probability meets it "
+                  "through a smoothed-quantile chance constraint on a separate, fixed design sample (its value above "
+                  "is that quantile). 'check': where the asked probability lies relative to the interval."),
+            ("table", ["requirement", "asked", "probability", "lower", "upper", "draws", "check"], rows)]
 
 
 def _budgets(report: dict) -> List[tuple]:
@@ -254,7 +291,7 @@ def _unavailable(report: dict) -> List[tuple]:
 
 def report_blocks(report: dict) -> List[tuple]:
     """All blocks of the report, in reading order."""
-    return (_summary(report) + _design(report) + _requirements(report) + _budgets(report) + _detection(report)
+    return (_summary(report) + _design(report) + _requirements(report) + _probabilities(report) + _budgets(report) + _detection(report)
             + _elasticities(report) + _post_optimal(report) + _unavailable(report))
 
 

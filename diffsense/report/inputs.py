@@ -122,15 +122,16 @@ def input_evaluator(model: DesignModel, inputs: List[Input], combo_index: int):
         for k, inp in enumerate(inputs):
             for case in inp.cases:
                 params[case][inp.param] = v[k]
-        evaluations = {}
+        evaluations, case_params = {}, {}
         for case, scene in spec.scenes.items():
             p = {name: jnp.asarray(value, dtype=float) for name, value in params[case].items()}
+            case_params[case] = p
             evaluations[case] = chain_for(scene).compute(scene, p)
         x = jnp.stack([jnp.asarray(v[var_index[n]], dtype=float) for n in model.variable_names]) \
             if model.variable_names else jnp.zeros((0,))
         combo = jnp.stack([jnp.asarray(v[cat_index[n]], dtype=float) for n in model.combo_params]
                           + [jnp.asarray(cost)])
-        req = model.requirement_values(x, combo, evaluations)
+        req = model.requirement_values(x, combo, evaluations, case_params)
         objective = model.raw_objective(x, combo, evaluations) * spec.objective.sign
         return evaluations, req, objective
 

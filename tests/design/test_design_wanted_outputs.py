@@ -9,6 +9,7 @@ and must not trace the range root finds, Pd series and unneeded required-SNR sol
 """
 
 import collections
+import dataclasses
 import glob
 import os
 
@@ -53,7 +54,13 @@ def _full_problem(model):
 
 def _wanted_problem(model):
     """(residuals, normalised objective) as the optimiser computes them (wanted outputs only)."""
-    return lambda x, combo, limits: (model.residuals(x, combo, limits), model.objective(x, combo))
+    def run(x, combo, limits):
+        rows = model.residuals(x, combo, limits)
+        # a requirement over an interval has one row per worst point kept: its residual is the largest
+        per_requirement = jnp.stack([jnp.max(rows[model.row_owner == j]) for j in range(len(model.requirements))])
+        return per_requirement, model.objective(x, combo)
+
+    return run
 
 
 @pytest.mark.parametrize("path", DESIGNS, ids=lambda p: os.path.basename(p)[:-5])
@@ -86,7 +93,11 @@ def _count_primitive(jaxpr, name):
 def test_ore_pass_residuals_trace_no_range_root_find_and_no_pd_series(monkeypatch):
     """ore_pass.toml constrains faded_snr_margin_db and cheap outputs: its residual function
     needs the exact N-pulse required SNR and nothing else of the detection layer."""
-    model = DesignModel(load_spec(os.path.join(ROOT, "designs", "ore_pass.toml")))
+    spec = load_spec(os.path.join(ROOT, "designs", "ore_pass.toml"))
+    # the requirements at their one design range: the interval search (tested below) repeats the
+    # chain at its grid points
+    point_spec = dataclasses.replace(spec, requirements=[dataclasses.replace(r, over=()) for r in spec.requirements])
+    model = DesignModel(point_spec)
     calls = collections.Counter()
 
     def spy(module, name):
@@ -117,6 +128,12 @@ def test_ore_pass_residuals_trace_no_range_root_find_and_no_pd_series(monkeypatc
     assert n_solve >= 1
     assert _count_primitive(wanted, "while") == n_solve < _count_primitive(full, "while")
     assert count_equations(wanted) < count_equations(full)
+
+    # with the spec's requirements over range intervals: still no detection-range root find and no Pd series
+    calls.clear()
+    interval_model = DesignModel(spec)
+    jax.make_jaxpr(interval_model.residuals)(*args)
+    assert calls["required_snr_db"] >= 1 and calls["decreasing_root_log"] == 0 and calls["pd"] == 0
 
 
 # --- chains ------------------------------------------------------------------------------------

@@ -84,8 +84,11 @@ def test_out_of_domain_arguments_raise_clear_errors():
 
     with pytest.raises(DomainError, match="pfa"):
         det.pd(10.0, 0.7, 1, 0)
+    # every finite SNR is in the domain of pd (Pd -> Pfa, Pd -> 1); NaN and inf are not
     with pytest.raises(DomainError, match="snr_db"):
-        det.pd(120.0, 1e-6, 1, 0)
+        det.pd(float("nan"), 1e-6, 1, 0)
+    with pytest.raises(DomainError, match="snr_db"):
+        det.pd(float("inf"), 1e-6, 1, 0)
     with pytest.raises(DomainError, match="'n'"):
         det.pd(10.0, 1e-6, 0.5, 0)
     with pytest.raises(ValueError, match="swerling"):

@@ -103,3 +103,20 @@ def test_bad_boxes_are_refused():
         box([1.0], [1.0])
     with pytest.raises(ValueError):
         box([0.0], [10.0], log=True)
+
+
+def test_a_null_far_narrower_than_the_grid_cell_is_found_to_machine_precision():
+    # two-ray interference with reflection coefficient 0.999: 20 log10 |1 - rho e^{i phi}|, phi =
+    # 2 pi 400 / p, has nulls at p = 400 / k of depth 20 log10(1 - rho) = -60 dB; about 10 m wide
+    # at -20 dB near p = 100, against a grid cell of 47 m. Newton alone fails here (the function is
+    # concave away from the null); the bracketed line search must land on the closed form.
+    rho = 0.999
+
+    def f(theta, p):
+        phi = 2.0 * math.pi * 400.0 / p[0]
+        return theta + 10.0 * jnp.log10(1.0 + rho**2 - 2.0 * rho * jnp.cos(phi))
+
+    bx = box([90.0], [110.0], counts=3, log=False)  # the null at 100 lies between grid points only
+    vals, pts = worst_points(f, 0.0, bx, n_worst=1)
+    assert pts[0, 0] == pytest.approx(100.0, rel=1e-12)
+    assert vals[0] == pytest.approx(20.0 * math.log10(1.0 - rho), abs=1e-9)

@@ -26,9 +26,12 @@ A spec says what a sensor must achieve and what the designer may change::
     [cases.sea_skimmer]                    # optional evaluation cases (override fixed values,
     parts = ["multipath"]                  # add parts); without cases there is one case "main"
     rcs_m2 = "0.1 m^2"
+    [uncertain]                            # optional: inputs known by a distribution (:mod:`.uncertain`)
+    noise_figure_db = { normal = "5 dB", sigma = "0.5 dB" }
     [[requirements]]
     output = "snr_margin_db"               # "<case>.<output>" when there are several cases
     at_least = "0 dB"                      # or at_most / equals
+    probability = 0.95                     # optional: met with this probability over [uncertain]
     [objective]
     minimize = "antenna_diameter_m"        # a parameter, an output, "cost", or a weighted sum
                                            # { antenna_diameter_m = 1.0, cost = 0.1 }
@@ -38,7 +41,8 @@ wrong; nothing is silently dropped or clamped.
 
 One module per section (:mod:`.cases`, :mod:`.variables`, :mod:`.choices`, :mod:`.fixed`,
 :mod:`.requirements`, :mod:`.objective`); :mod:`.parse` reads them in order and :mod:`.types`
-holds the validated result.
+holds the validated result. :mod:`.evaluable` checks, once, that the chain has a finite answer
+at the initial design and the corners of the box (the command line runs it after loading).
 """
 
 from diffsense.design.spec.parse import load_spec, parse_spec

@@ -20,10 +20,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Dict, Mapping, Set
 
-from diffsense.design.spec.common import closest, optional_table
+from diffsense.design.spec.common import (DESCRIBE_HINT, clean_message, closest, echo, key_text, optional_table,
+                                          unknown_parameter)
 from diffsense.design.spec.types import DEFAULT_CASE
 from diffsense.errors import DomainError, SpecError
-from diffsense.scene import Scene, chain_for, sensor_kinds
+from diffsense.scene import CHAINS, Scene, chain_for, sensor_kinds
 from diffsense.sensors.chain import Output, Param
 
 #: keys of a case table that are not parameter overrides
@@ -51,8 +52,7 @@ class Cases:
         for table in self.parameters.values():
             if name in table:
                 return table[name]
-        raise SpecError(file, key, f"unknown parameter '{name}' for a {self.sensor} scene with parts "
-                        f"{sorted(self.base_scene.parts)}{closest(name, self.all_parameters)}")
+        raise unknown_parameter(file, key, name, self.base_scene, self.all_parameters)
 
 
 def read_sensor(file, raw: Mapping) -> str:
@@ -68,23 +68,52 @@ def read_sensor(file, raw: Mapping) -> str:
     return sensor
 
 
-def _scene(file, key: str, sensor: str, parts, options) -> Scene:
+def check_parts(file, key: str, sensor: str, parts) -> list:
+    """``parts`` (the list at ``key``): names of parts a ``sensor`` scene knows, each once."""
     if not isinstance(parts, list) or not all(isinstance(p, str) for p in parts):
-        raise SpecError(file, key, "'parts' must be a list of part names")
+        raise SpecError(file, key, f"must be a list of part names, e.g. [\"rain\"]; got {echo(parts)}")
+    chain = CHAINS[sensor]
+    for i, part in enumerate(parts):
+        if part not in chain.parts:
+            raise SpecError(file, key, f"unknown part {echo(part)} of a {sensor} scene"
+                            f"{closest(part, chain.parts)}; parts: {', '.join(chain.parts)}")
+        if part in parts[:i]:
+            raise SpecError(file, key, f"part {echo(part)} is listed twice")
+    return parts
+
+
+def _scene(file, key: str, sensor: str, parts, options) -> Scene:
     try:
         scene = Scene(sensor, parts, options)
         chain_for(scene)
     except DomainError as exc:
-        raise SpecError(file, key, str(exc)) from None
+        raise SpecError(file, key, clean_message(exc)) from None
     return scene
+
+
+def read_options(file, raw: Mapping, sensor: str) -> dict:
+    """The ``[options]`` table: each a known static option of the sensor, set to one of its
+    allowed values, of the same type (``swerling = true`` is not ``swerling = 1``)."""
+    options = raw.get("options", {})
+    if not isinstance(options, dict):
+        raise SpecError(file, "options", f"must be a table of option = value; got {echo(options)}")
+    known = CHAINS[sensor].options
+    for name, value in options.items():
+        key = f"options.{key_text(name)}"
+        if name not in known:
+            raise SpecError(file, key, f"unknown option of a {sensor} scene{closest(name, known)}; options: "
+                            f"{', '.join(sorted(known))} ({DESCRIBE_HINT.format(kind=sensor)})")
+        default, allowed = known[name]
+        if allowed and not any(type(value) is type(a) and value == a for a in allowed):
+            raise SpecError(file, key, f"must be one of {', '.join(echo(a) for a in allowed)} "
+                            f"(default {echo(default)}); got {echo(value)}")
+    return options
 
 
 def read_cases(file, raw: Mapping, sensor: str) -> Cases:
     """The scenes of every case (``parts``, ``[options]``, ``[cases]``) and their chain tables."""
-    options = raw.get("options", {})
-    if not isinstance(options, dict):
-        raise SpecError(file, "options", "must be a table")
-    base_parts = raw.get("parts", [])
+    options = read_options(file, raw, sensor)
+    base_parts = check_parts(file, "parts", sensor, raw.get("parts", []))
     base_scene = _scene(file, "parts", sensor, base_parts, options)
     chain = chain_for(base_scene)
     cases_raw = optional_table(file, raw, "cases", "must be a table of named cases")
@@ -93,7 +122,7 @@ def read_cases(file, raw: Mapping, sensor: str) -> Cases:
     for cname, ctable in cases_raw.items():
         if not isinstance(ctable, dict):
             raise SpecError(file, f"cases.{cname}", "must be a table")
-        extra = ctable.get("parts", [])
+        extra = check_parts(file, f"cases.{cname}.parts", sensor, ctable.get("parts", []))
         scenes[cname] = _scene(file, f"cases.{cname}.parts", sensor, list(base_parts) + list(extra), options)
         overrides[cname] = {k: v for k, v in ctable.items() if k not in CASE_RESERVED}
     if not cases_raw:

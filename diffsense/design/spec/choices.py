@@ -15,7 +15,8 @@ from __future__ import annotations
 from typing import Dict, Mapping, Set, Tuple
 
 from diffsense.design.spec.cases import Cases
-from diffsense.design.spec.common import is_number, optional_table, parameter_value, reject_unknown
+from diffsense.design.spec.common import (echo, finite_number, key_text, optional_table, parameter_value,
+                                          reject_unknown)
 from diffsense.design.spec.types import Choice, Variable
 from diffsense.errors import SpecError
 
@@ -24,11 +25,12 @@ def read_choices(file, raw: Mapping, cases: Cases, taken) -> Dict[str, Choice]:
     """The grouped catalogs of the ``[choices]`` section; ``taken``: names already used by variables."""
     choices: Dict[str, Choice] = {}
     for cname, ct in optional_table(file, raw, "choices", "must be a table of named catalogs").items():
-        key = f"choices.{cname}"
+        key = f"choices.{key_text(cname)}"
         if cname in taken:
             raise SpecError(file, key, "name already used by a variable")
         if not isinstance(ct, dict) or "options" not in ct:
-            raise SpecError(file, f"{key}.options", "missing (a list of option tables)")
+            raise SpecError(file, f"{key}.options", "missing (a list of option tables, e.g. options = [ { name = "
+                            "\"A\", peak_power_w = \"1 kW\", cost = 1.0 } ])")
         reject_unknown(file, key + ".", ct, {"options", "doc"})
         opts = ct["options"]
         if not isinstance(opts, list) or not opts or not all(isinstance(o, dict) for o in opts):
@@ -47,16 +49,19 @@ def read_choices(file, raw: Mapping, cases: Cases, taken) -> Dict[str, Choice]:
 
 def _option(file, okey: str, i: int, option: Mapping, cases: Cases) -> Tuple[str, float, Dict[str, float]]:
     """``(name, cost, parameter -> value)`` of one catalog option."""
-    name = str(option.get("name", f"option {i}"))
-    cost = option.get("cost", 0.0)
-    if not is_number(cost):
-        raise SpecError(file, f"{okey}.cost", "must be a number")
+    name = option.get("name", f"option {i}")
+    if not isinstance(name, str):
+        raise SpecError(file, f"{okey}.name", f"must be a string; got {echo(name)}")
+    cost = finite_number(file, f"{okey}.cost", option.get("cost", 0.0), "a finite cost")
     setting = {}
     for pname, pval in option.items():
-        if pname in ("name", "cost"):
+        if pname in ("name", "cost", "doc"):
             continue
-        prm = cases.param_of(file, pname, f"{okey}.{pname}")
-        setting[pname] = parameter_value(file, f"{okey}.{pname}", prm, pval)
+        pkey = f"{okey}.{key_text(pname)}"
+        prm = cases.param_of(file, pname, pkey)
+        setting[pname] = parameter_value(file, pkey, prm, pval)
+    if not setting:
+        raise SpecError(file, okey, "sets no parameter: an option needs at least one parameter = value")
     return name, float(cost), setting
 
 

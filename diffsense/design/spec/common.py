@@ -8,60 +8,159 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 from typing import Mapping, Optional
 
 from diffsense.design.units import to_unit
 from diffsense.errors import DomainError, SpecError, UnitError
 from diffsense.numerics.checks import check_range
+from diffsense.scene import Scene, describe_command, domain_text, number_text, unknown_name_hint
 from diffsense.sensors.chain import Param
+
+#: the longest piece of a spec's own text echoed in a message (characters)
+MAX_ECHO = 80
+#: where every message about an unknown name points
+DESCRIBE_HINT = "run 'diffsense describe {kind}' for the full list"
+
+
+def one_line(text: str, limit: int = MAX_ECHO) -> str:
+    """``text`` on one line (control characters escaped), at most ``limit`` characters: an
+    ellipsis and the full length beyond.
+
+    >>> one_line("x" * 100, 20)
+    'xxxxxxxxxxxxxxxxx… (100 characters)'
+    """
+    text = "".join(ch if ch.isprintable() else ch.encode("unicode_escape").decode() for ch in str(text))
+    if len(text) <= limit:
+        return text
+    return f"{text[:limit - 3]}… ({len(text)} characters)"
+
+
+def key_text(name) -> str:
+    """A key of the spec as part of a dotted key in a message (at most 60 characters)."""
+    return one_line(name, 60)
+
+
+def echo(value, limit: int = MAX_ECHO) -> str:
+    """A value of the spec as it may appear in a message: its TOML-like text on one line, at
+    most ``limit`` characters (:func:`one_line`); numbers without NumPy reprs.
+
+    >>> echo("60 %"), echo(1.5), echo(True)
+    ("'60 %'", '1.5', 'true')
+    """
+    if isinstance(value, bool):
+        text = "true" if value else "false"
+    elif isinstance(value, float):
+        text = number_text(value)
+    else:
+        try:
+            text = repr(value)
+        except RecursionError:
+            text = f"<{type(value).__name__} nested too deeply>"
+    return one_line(text, limit)
+
+
+def close_names(name: str, names, n: int = 3) -> list:
+    """Up to ``n`` of ``names`` that look like ``name`` (closest first).
+
+    >>> close_names("rnge_m", ["range_m", "freq_hz", "ranges_m"])
+    ['range_m', 'ranges_m']
+    """
+    if not isinstance(name, str):
+        return []
+    return difflib.get_close_matches(name, [str(x) for x in names], n=n)
 
 
 def closest(name: str, names) -> str:
-    """`` (did you mean 'x'?)`` for the closest of ``names`` to ``name``, or ``""``.
+    """`` (did you mean 'x'?)`` for the closest of ``names`` to ``name`` (up to three), or ``""``.
 
     >>> closest("rnge_m", ["range_m", "freq_hz"])
     " (did you mean 'range_m'?)"
+    >>> closest("snr_db", ["snr_margin_db", "sir_db", "snr_dbw", "scr_db"])
+    " (did you mean 'snr_dbw', 'sir_db' or 'scr_db'?)"
     """
-    close = difflib.get_close_matches(name, list(names), n=1)
-    return f" (did you mean '{close[0]}'?)" if close else ""
+    close = close_names(name, names)
+    if not close:
+        return ""
+    quoted = [f"'{c}'" for c in close]
+    text = quoted[0] if len(quoted) == 1 else ", ".join(quoted[:-1]) + " or " + quoted[-1]
+    return f" (did you mean {text}?)"
+
+
+def unknown_parameter(file, key: str, name, scene: Scene, names) -> SpecError:
+    """The error for ``name``, not a parameter of ``scene`` (``names``: those it has): what the
+    chain knows about the name, or up to three close names, and the ``diffsense describe``
+    command that lists them all."""
+    hint = unknown_name_hint(scene, name) if isinstance(name, str) else ""
+    told = f"; {hint}" if hint else closest(name, names)
+    return SpecError(file, key, f"unknown parameter {echo(name, 60)} of a {scene.sensor} scene{told}; "
+                     f"run '{describe_command(scene)}' for its parameters")
 
 
 def reject_unknown(file, prefix: str, table: Mapping, allowed) -> None:
     """Raise for the first key of ``table`` not in ``allowed`` (key reported as ``prefix + key``)."""
     for key in table:
         if key not in allowed:
-            raise SpecError(file, f"{prefix}{key}", f"unknown key{closest(key, allowed)}; allowed: {sorted(allowed)}")
+            raise SpecError(file, f"{prefix}{key_text(key)}",
+                            f"unknown key{closest(key, allowed)}; allowed: {', '.join(sorted(allowed))}")
 
 
 def quantity(file, key: str, value, unit: str) -> float:
     """``value`` (a number in ``unit`` or a string "<number> <unit>") converted to ``unit``; finite."""
+    if isinstance(value, float) and not math.isfinite(value):
+        raise SpecError(file, key, f"value {echo(value)} is not finite")
     try:
         out = to_unit(value, unit)
     except UnitError as exc:
-        raise SpecError(file, key, f"{exc} (expected a quantity in '{unit}')") from None
+        raise SpecError(file, key, f"{clean_message(exc)} (expected a quantity in '{unit}')") from None
     if not math.isfinite(out):
-        raise SpecError(file, key, f"value {value!r} is not finite")
+        raise SpecError(file, key, f"value {echo(value)} is not finite in '{unit}'")
     return out
+
+
+def clean_message(exc: Exception) -> str:
+    """The text of an exception from a lower layer, with NumPy reprs (``np.float64(1.5)``) shown
+    as plain numbers and clipped to one line."""
+    text = re.sub(r"np\.(?:float|int)\d+\(([^()]*)\)", r"\1", str(exc))
+    return one_line(text, 300) if text else type(exc).__name__
+
+
+def _with_unit(value: float, unit: str) -> str:
+    return number_text(value) + ("" if unit in ("", "1") else f" {unit}")
 
 
 def check_domain(file, key: str, prm: Param, value: float) -> None:
     """Raise unless ``value`` lies in the documented domain of the chain parameter ``prm``."""
     try:
         check_range(prm.name, value, prm.lo, prm.hi, lo_open=prm.lo_open, hi_open=prm.hi_open)
-    except DomainError as exc:
-        raise SpecError(file, key, f"{value:g} {prm.unit} lies outside the model's domain: {exc}") from None
+    except DomainError:
+        unit = "" if prm.unit in ("", "1") else f" (in {prm.unit})"
+        raise SpecError(file, key, f"{_with_unit(value, prm.unit)} lies outside the model's domain "
+                        f"{domain_text(prm)}{unit} of '{prm.name}'") from None
 
 
 def parameter_value(file, key: str, prm: Param, value) -> float:
-    """A value for the chain parameter ``prm``: converted to its unit and inside its domain."""
+    """A value for the chain parameter ``prm``: converted to its unit, inside its domain, and a
+    whole number when the parameter counts something."""
     out = quantity(file, key, value, prm.unit)
     check_domain(file, key, prm, out)
+    if prm.integer and out != math.floor(out):
+        raise SpecError(file, key, f"'{prm.name}' counts something: it needs a whole number, got {echo(value)}")
     return out
 
 
 def is_number(value) -> bool:
     """True for an int or float that is not a boolean (TOML's true/false are not weights)."""
     return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def finite_number(file, key: str, value, what: str = "a number") -> float:
+    """``value`` as a float: a finite int or float (not a boolean, nan or inf); raise otherwise."""
+    if not is_number(value):
+        raise SpecError(file, key, f"must be {what}; got {echo(value)}")
+    if not math.isfinite(value):
+        raise SpecError(file, key, f"must be {what}, finite; got {echo(value)}")
+    return float(value)
 
 
 def optional_table(file, raw: Mapping, key: str, problem: str = "must be a table") -> dict:

@@ -16,7 +16,7 @@ from __future__ import annotations
 from typing import Dict, Mapping, Set
 
 from diffsense.design.spec.cases import Cases
-from diffsense.design.spec.common import closest, optional_table, parameter_value
+from diffsense.design.spec.common import key_text, optional_table, parameter_value, unknown_parameter
 from diffsense.design.spec.types import DEFAULT_CASE
 from diffsense.errors import SpecError
 
@@ -32,11 +32,11 @@ def _case_values(file, cname: str, fraw: Mapping, cases: Cases, chosen: Set[str]
     vals: Dict[str, float] = {}
     for src, prefix in ((fraw, "fixed."), (cases.overrides[cname], f"cases.{cname}.")):
         for pname, pval in src.items():
-            key = prefix + pname
+            key = prefix + key_text(pname)
             if pname not in table:
                 if src is fraw and pname in cases.all_parameters:
                     continue  # belongs to a part only some cases have
-                raise SpecError(file, key, f"unknown parameter '{pname}' for this scene{closest(pname, table)}")
+                raise unknown_parameter(file, key, pname, cases.scenes[cname], table)
             if pname in chosen:
                 raise SpecError(file, key, f"'{pname}' is a design variable; it cannot also be fixed")
             vals[pname] = parameter_value(file, key, table[pname], pval)

@@ -13,9 +13,10 @@ from __future__ import annotations
 from typing import List, Mapping, Tuple
 
 from diffsense.design.spec.cases import Cases
-from diffsense.design.spec.common import closest, is_number, reject_unknown, split_case
+from diffsense.design.spec.common import closest, echo, finite_number, key_text, reject_unknown, split_case
 from diffsense.design.spec.types import Objective
 from diffsense.errors import SpecError
+from diffsense.scene import describe_command
 
 OBJECTIVE_KEYS = {"minimize", "maximize", "doc"}
 
@@ -48,7 +49,8 @@ def read_objective(file, raw: Mapping, cases: Cases) -> Objective:
         case, base = split_case(file, f"objective.{sense}", tname, cases.scenes, default=first)
         known = set(cases.parameters[case]) | set(cases.outputs[case])
         if base not in known:
-            raise SpecError(file, f"objective.{sense}", f"unknown parameter or output '{tname}'{closest(base, known)}")
+            raise SpecError(file, f"objective.{sense}", f"unknown parameter or output {echo(tname, 60)}"
+                            f"{closest(base, known)}; run '{describe_command(cases.scenes[case])}' for them all")
     return Objective(tuple(terms), 1.0 if sense == "minimize" else -1.0,
                      f"{sense} " + " + ".join(f"{w:g}·{n}" if w != 1 else n for n, w in terms))
 
@@ -59,8 +61,6 @@ def _terms(file, sense: str, obj) -> List[Tuple[str, float]]:
     if isinstance(obj, dict) and obj:
         terms = []
         for k, w in obj.items():
-            if not is_number(w):
-                raise SpecError(file, f"objective.{sense}.{k}", "weight must be a number")
-            terms.append((k, float(w)))
+            terms.append((k, finite_number(file, f"objective.{sense}.{key_text(k)}", w, "a finite weight")))
         return terms
-    raise SpecError(file, f"objective.{sense}", "must be a name or a table of name = weight")
+    raise SpecError(file, f"objective.{sense}", f"must be a name or a table of name = weight; got {echo(obj)}")

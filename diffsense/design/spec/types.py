@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, List, Tuple
+from typing import Dict, List, Optional, Tuple
 
 from diffsense.scene import Scene
 from diffsense.sensors.chain import Output, Param
@@ -44,8 +44,21 @@ class Choice:
 
 
 @dataclass(frozen=True)
+class Interval:
+    """A requirement holds for every value of ``parameter`` from ``lower`` to ``upper`` (its
+    unit); ``log``: grid in log p (None: by span)."""
+
+    parameter: str
+    unit: str
+    lower: float
+    upper: float
+    log: Optional[bool] = None
+
+
+@dataclass(frozen=True)
 class Requirement:
-    """``output`` of ``case`` must be at least / at most / equal to ``limit`` (output unit)."""
+    """``output`` of ``case`` must be at least / at most / equal to ``limit`` (output unit);
+    with ``over`` at every point of that box of parameters (:mod:`.intervals`)."""
 
     name: str
     case: str
@@ -53,6 +66,10 @@ class Requirement:
     sense: str
     limit: float
     unit: str
+    over: Tuple[Interval, ...] = ()
+    over_points: Optional[int] = None  # search-grid points per parameter (None: default)
+    over_worst: int = 3  # worst points kept as constraints
+    probability: Optional[float] = None  # chance constraint: met with this probability (:mod:`.uncertain`)
 
 
 @dataclass(frozen=True)
@@ -81,6 +98,8 @@ class Spec:
     objective: Objective
     parameters: Dict[str, Dict[str, Param]] = field(default_factory=dict)  # case -> table
     outputs: Dict[str, Dict[str, Output]] = field(default_factory=dict)  # case -> table
+    uncertain: Optional["Uncertainty"] = None  # the [uncertain] section (:mod:`.uncertain`)
+    trade: Optional[object] = None  # diffsense.design.spec.trade.Trade, from [trade]
 
     @property
     def cases(self) -> List[str]:

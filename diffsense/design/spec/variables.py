@@ -26,10 +26,11 @@ import math
 from typing import Dict, Mapping, Tuple
 
 from diffsense.design.spec.cases import Cases
-from diffsense.design.spec.common import (check_domain, is_number, optional_table, parameter_value, quantity,
-                                          reject_unknown)
+from diffsense.design.spec.common import (check_domain, echo, finite_number, key_text, optional_table,
+                                          parameter_value, quantity, reject_unknown)
 from diffsense.design.spec.types import Choice, Variable
 from diffsense.errors import SpecError
+from diffsense.scene import number_text
 from diffsense.sensors.chain import Param
 
 VARIABLE_KEYS = {"lower", "upper", "initial", "scale", "integer", "choices", "costs", "doc"}
@@ -54,7 +55,7 @@ def read_variables(file, raw: Mapping, cases: Cases) -> Tuple[Dict[str, Variable
     variables: Dict[str, Variable] = {}
     catalogs: Dict[str, Choice] = {}
     for vname, vt in optional_table(file, raw, "variables").items():
-        key = f"variables.{vname}"
+        key = f"variables.{key_text(vname)}"
         prm = cases.param_of(file, vname, key)
         if not isinstance(vt, dict):
             raise SpecError(file, key, "must be a table with lower/upper (or choices)")
@@ -72,13 +73,13 @@ def _catalog_variable(file, key: str, name: str, vt: Mapping, prm: Param) -> Cho
         raise SpecError(file, f"{key}.{sorted(extra)[0]}", "a catalog variable takes only 'choices' and 'costs'")
     opts = vt["choices"]
     if not isinstance(opts, list) or len(opts) < 1:
-        raise SpecError(file, f"{key}.choices", "must be a non-empty list of values")
+        raise SpecError(file, f"{key}.choices", f"must be a non-empty list of values; got {echo(opts)}")
     vals = [parameter_value(file, f"{key}.choices[{i}]", prm, o) for i, o in enumerate(opts)]
     costs = vt.get("costs", [0.0] * len(vals))
-    if not isinstance(costs, list) or len(costs) != len(vals) or not all(is_number(c) for c in costs):
+    if not isinstance(costs, list) or len(costs) != len(vals):
         raise SpecError(file, f"{key}.costs", f"must be a list of {len(vals)} numbers, one per choice")
-    return Choice(name, tuple(str(o) for o in opts), tuple({name: v} for v in vals),
-                  tuple(float(c) for c in costs))
+    costs = [finite_number(file, f"{key}.costs[{i}]", c, "a finite cost") for i, c in enumerate(costs)]
+    return Choice(name, tuple(str(o) for o in opts), tuple({name: v} for v in vals), tuple(costs))
 
 
 def _range_variable(file, key: str, name: str, vt: Mapping, prm: Param) -> Variable:
@@ -87,24 +88,28 @@ def _range_variable(file, key: str, name: str, vt: Mapping, prm: Param) -> Varia
             raise SpecError(file, f"{key}.{bound}", "missing (a design variable needs lower and upper bounds)")
     lo = quantity(file, f"{key}.lower", vt["lower"], prm.unit)
     hi = quantity(file, f"{key}.upper", vt["upper"], prm.unit)
+    if lo == hi:
+        raise SpecError(file, key, f"lower equals upper ({echo(vt['lower'])}): the range is empty; to hold the "
+                        "value put it under [fixed]")
     if not lo < hi:
-        raise SpecError(file, key, f"bounds inverted or empty: lower {vt['lower']!r} is not below upper {vt['upper']!r}")
+        raise SpecError(file, key, f"bounds inverted: lower {echo(vt['lower'])} is above upper {echo(vt['upper'])}")
     check_domain(file, f"{key}.lower", prm, lo)
     check_domain(file, f"{key}.upper", prm, hi)
     scale = vt.get("scale", "log" if lo > 0 else "linear")
     if scale not in ("log", "linear"):
-        raise SpecError(file, f"{key}.scale", f"must be 'log' or 'linear'; got {scale!r}")
+        raise SpecError(file, f"{key}.scale", f"must be 'log' or 'linear'; got {echo(scale)}")
     if scale == "log" and lo <= 0:
         raise SpecError(file, f"{key}.scale", "log scaling needs a positive lower bound")
     integer = vt.get("integer", prm.integer)
     if not isinstance(integer, bool):
-        raise SpecError(file, f"{key}.integer", "must be true or false")
+        raise SpecError(file, f"{key}.integer", f"must be true or false; got {echo(integer)}")
     if integer and math.floor(hi) < math.ceil(lo):
-        raise SpecError(file, key, "no integer lies between the bounds")
+        raise SpecError(file, key, f"no integer lies between the bounds {number_text(lo)} and {number_text(hi)}")
     if "initial" in vt:
         x0 = quantity(file, f"{key}.initial", vt["initial"], prm.unit)
         if not lo <= x0 <= hi:
-            raise SpecError(file, f"{key}.initial", f"{x0:g} {prm.unit} lies outside [{lo:g}, {hi:g}]")
+            raise SpecError(file, f"{key}.initial", f"{echo(vt['initial'])} lies outside the bounds "
+                            f"[{number_text(lo)}, {number_text(hi)}] {prm.unit}")
     else:
         x0 = math.sqrt(lo * hi) if scale == "log" else 0.5 * (lo + hi)
     return Variable(name, prm.unit, lo, hi, x0, scale == "log", integer)

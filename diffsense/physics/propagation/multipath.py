@@ -8,8 +8,10 @@ Skolnik, *Introduction to Radar Systems* 3rd ed. §8.2)::
 
 * geometry over the effective earth k a (k = 4/3): the specular point from Blake's solution
   of the reflection cubic, G1 = G/2 + p cos((Phi + pi)/3), p = (2/sqrt 3) sqrt(k a (h1 + h2)
-  + (G/2)^2), Phi = arccos(2 k a (h1 - h2) G / p^3); direct/reflected paths, path difference
-  delta and grazing angle psi are then computed exactly on the effective sphere. With
+  + (G/2)^2), Phi = arccos(2 k a (h1 - h2) G / p^3); direct/reflected paths and path difference
+  delta are then computed exactly on the effective sphere, the grazing angle psi at the specular
+  point by :func:`diffsense.physics.propagation.refraction.surface_grazing_angle_rad` (the relation
+  the sea-clutter patch uses too). With
   ``earth_model="flat"``: G1 = G h1/(h1 + h2), D = 1.
 * divergence factor D = [1 + 2 G1 G2 / (k a G sin psi)]^(-1/2) (Kerr 1951; Blake 1986 eq. 6.49).
 * smooth-surface Fresnel coefficients for complex relative permittivity eps (eps'' > 0 loss)::
@@ -45,7 +47,7 @@ from diffsense.errors import DomainError
 from diffsense.numerics.checks import check_choice, check_range, is_concrete
 from diffsense.numerics.db import db20
 from diffsense.physics.constants import SPEED_OF_LIGHT_M_S
-from diffsense.physics.propagation.refraction import EARTH_RADIUS_M, radar_horizon_m
+from diffsense.physics.propagation.refraction import EARTH_RADIUS_M, radar_horizon_m, surface_grazing_angle_rad
 from diffsense.physics.sea_state import SEA_STATE_SIGNIFICANT_WAVE_HEIGHT_M, rms_wave_height_from_sea_state_m
 
 __all__ = [
@@ -201,8 +203,9 @@ def two_ray_geometry(range_m, antenna_height_m, target_height_m, k_factor=4.0 / 
     # in the tangent-plane frame A = (-t1, h1'), T = (t2, h2'): the specular path unfolds to a
     # straight line, so delta = (R1 + R2) - R = 4 h1' h2' / (R1 + R2 + R) exactly
     delta = 4.0 * h1p * h2p / (r1 + r2 + r)
-    sin_psi = jnp.clip(0.5 * (h1p / r1 + h2p / r2), 0.0, 1.0)
-    psi = jnp.arcsin(sin_psi)
+    # grazing angle at the specular point, seen from either terminal (equal there; averaged)
+    psi = jnp.maximum(0.5 * (surface_grazing_angle_rad(r1, h1, k_factor) + surface_grazing_angle_rad(r2, h2, k_factor)), 0.0)
+    sin_psi = jnp.sin(psi)
     sin_safe = jnp.where(sin_psi > 0.0, sin_psi, 1.0)
     divergence = jnp.where(sin_psi > 0.0, 1.0 / jnp.sqrt(1.0 + 2.0 * g1 * g2 / (ae * g * sin_safe)), 0.0)
     return dict(ground_range=g, g1=g1, g2=g2, path_difference=delta, grazing_rad=psi, divergence=divergence)

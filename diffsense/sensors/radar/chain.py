@@ -26,10 +26,15 @@ clutter, jamming, detection range and tracking, built from a static
    minus the noise power N = k T0 β F L_rx. A practical IF filter is charged with its mismatch
    loss relative to the matched filter (detection.matched_filter_loss_db of β τ), as the book
    does; the option ``matched_filter="matched"`` drops the term (ideal matched filter, book
-   §8.16.9.3). The waveform outputs (c τ/2, c/(2 f_p), f_p/N, τ f_p) come from
-   :mod:`diffsense.physics.waveforms`.
+   §8.16.9.3). The waveform outputs (c W/2, c/(2 f_p), f_p/N, τ f_p) come from
+   :mod:`diffsense.physics.waveforms`, with W the half-amplitude width of the echo after the IF
+   filter (τ for the matched filter, :mod:`diffsense.physics.received_pulse`); the range gate,
+   the clutter cells and the tracker's split gate are c W/2 long too. With
+   ``noise_input="temperature"`` the noise-figure line is −10 log10(Ts/T0).
 2. interference (:mod:`~diffsense.sensors.radar.interference`) — clutter parts give ``scr_db``
-   = 10 log10(σ F⁴ / Σ σ_clutter) (book §8.16.6); a noise jammer adds J to N (book §9.10).
+   = 10 log10(σ F⁴ / Σ σ_clutter) (book §8.16.6); sea clutter at the 4/3-earth grazing angle
+   (the multipath geometry's relation) with the model of option ``sea_clutter_model``; the wall
+   clutter seen through the beam on its sidelobe floor; a noise jammer adds J to N (book §9.10).
 3. detection (:mod:`~diffsense.sensors.radar.detectability`) — the required SNR of option
    ``detectability`` ("exact", "book" or "given"), Pd, and the detection margin
 
@@ -66,10 +71,18 @@ from diffsense.sensors.radar.detectability import (
     required_snr,
     requirement_outputs,
 )
-from diffsense.sensors.radar.interference import Interference
+from diffsense.sensors.radar.interference import Interference, check_sea_clutter_domain
 from diffsense.sensors.radar.link_budget import Link, antenna, check_inside_horizon, link_outputs
 from diffsense.sensors.radar.parameters import radar_outputs, radar_parameters
-from diffsense.sensors.radar.structure import ATTENUATION_PARTS, CLUTTER_PARTS, OPTIONS, PARTS, option
+from diffsense.sensors.radar.structure import (
+    ATTENUATION_PARTS,
+    CLUTTER_PARTS,
+    OPTIONS,
+    PARTS,
+    SURFACE_PARTS,
+    looks_along_surface,
+    option,
+)
 from diffsense.sensors.radar.tracking import tracking_outputs
 
 __all__ = ["RadarChain", "PARTS", "OPTIONS", "ATTENUATION_PARTS", "CLUTTER_PARTS"]
@@ -90,6 +103,10 @@ class RadarChain(Chain):
                 "radar scene: coherent integration needs echoes that keep their phase over the pulses; "
                 "Swerling 2 and 4 decorrelate from pulse to pulse (use integration='noncoherent')"
             )
+        surface = [part for part in SURFACE_PARTS if scene.has(part)]
+        if surface and not looks_along_surface(scene):
+            raise DomainError(f"radar scene: the parts {surface} need a radar looking along the sea surface; "
+                              "option geometry='shaft' says it looks down a shaft")
 
     def parameters(self, scene):
         return radar_parameters(scene)
@@ -102,6 +119,7 @@ class RadarChain(Chain):
         the exact detectability solves, Pd series and range root finds that no wanted output
         needs are not traced (see :class:`diffsense.sensors.chain.Chain`)."""
         check_inside_horizon(scene, p)
+        check_sea_clutter_domain(scene, p)
         r0 = p["range_m"]
         lam = wavelength_m(p["freq_hz"])
         ant = antenna(scene, p, lam)
@@ -126,7 +144,7 @@ class RadarChain(Chain):
         values.update(pd_outputs(scene, p, wanted, snr, sjnr0, req))
         values.update(interference.outputs(r0, s0, mp0, req_scr))
         if scene.has("tracking"):
-            values.update(tracking_outputs(scene, p, snr, ant.beamwidth_az_rad))
+            values.update(tracking_outputs(scene, p, snr, ant.beamwidth_az_rad, link.received_width_s))
         return Evaluation(budget, {name: values[name] for name in radar_outputs(scene) if name in values})
 
     @staticmethod

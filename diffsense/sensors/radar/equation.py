@@ -36,10 +36,12 @@ from diffsense.physics import noise as _noise
 from diffsense.errors import DomainError
 from diffsense.numerics.checks import check_range, is_concrete
 from diffsense.numerics.db import DB_PER_NEPER, db10, from_db10
-from diffsense.physics.constants import BOLTZMANN_J_K, REFERENCE_TEMPERATURE_K
+from diffsense.physics.constants import BOLTZMANN_J_K, REFERENCE_TEMPERATURE_K, SPEED_OF_LIGHT_M_S
 from diffsense.physics.propagation.dust import ROCK_DUST_K_SQUARED
 from diffsense.physics.propagation.free_space import atmospheric_two_way_loss_db
 from diffsense.physics.propagation.multipath import SEA_STATE_SIGNIFICANT_WAVE_HEIGHT_M, propagation_factor_db
+from diffsense.physics.propagation.refraction import surface_grazing_angle_rad
+from diffsense.physics.sea_clutter import sea_clutter_sigma0
 from diffsense.numerics.rootfind import decreasing_root_log
 
 __all__ = [
@@ -53,6 +55,7 @@ __all__ = [
     "volume_clutter_scr_db",
     "rain_clutter_scr_db",
     "dust_clutter_scr_db",
+    "SEA_GRAZING_FLOOR_RAD",
     "sea_grazing_angle_rad",
     "sea_clutter_rcs_m2",
     "sea_clutter_scr_db",
@@ -319,13 +322,28 @@ def dust_clutter_scr_db(rcs_m2, visibility_m, wavelength_m, range_m, az_beamwidt
     return volume_clutter_scr_db(rcs_m2, eta, range_m, az_beamwidth_rad, el_beamwidth_rad, pulse_width_s, beam_shape_factor)
 
 
-def sea_grazing_angle_rad(range_m, antenna_height_m):
+#: Grazing angle (rad) below which the sea surface counts as hidden (beyond the antenna's horizon):
+#: the clutter patch is evaluated there, where the NRL model's ψ⁴ continuation is ~120 dB down.
+SEA_GRAZING_FLOOR_RAD = 1e-6
+
+
+def sea_grazing_angle_rad(range_m, antenna_height_m, k_factor=4.0 / 3.0):
     """Grazing angle of the sea surface at slant range R from an antenna at height h (rad).
 
-    ``ψ = arcsin(h / R)`` (flat earth). Neglecting earth curvature lowers sin ψ by R/(2 k a)
-    (k a = 8.5e6 m): under 5 % while R < 0.3 √(2 k a h), i.e. well inside the radar horizon.
+    ``sin ψ = (d(h)² − R²)/(2 k a R)`` over the effective earth k a (k = 4/3), d(h) the horizon
+    distance: the relation of :func:`diffsense.physics.propagation.refraction.surface_grazing_angle_rad`,
+    which the two-ray multipath geometry uses at its specular point too. Flat earth would give
+    arcsin(h/R); the curvature lowers sin ψ by about R/(2 k a) and brings ψ to 0 at the horizon
+    (negative beyond it: the surface is hidden).
 
-    Args: range_m R (m) > antenna_height_m; antenna_height_m h (m), (0, ∞).
+    Args: range_m R (m) > antenna_height_m, ≤ 1e7; antenna_height_m h (m), (0, 1e5];
+    k_factor: effective-earth factor, [0.5, 10].
+
+    8 m mast, 5 km: 0.0748° (flat earth: 0.0917°):
+
+    >>> import math
+    >>> round(math.degrees(float(sea_grazing_angle_rad(5e3, 8.0))), 4)
+    0.0748
     """
     w = "radar.sea_grazing_angle_rad"
     check_range("range_m", range_m, 0.0, None, lo_open=True, where=w)
@@ -333,58 +351,85 @@ def sea_grazing_angle_rad(range_m, antenna_height_m):
     if is_concrete(range_m) and is_concrete(antenna_height_m):
         if np.any(np.asarray(range_m, float) <= np.asarray(antenna_height_m, float)):
             raise DomainError(f"{w}: 'range_m' must exceed 'antenna_height_m'")
-    return jnp.arcsin(_f(antenna_height_m) / _f(range_m))
+    return surface_grazing_angle_rad(range_m, antenna_height_m, k_factor)
 
 
-def sea_clutter_rcs_m2(range_m, antenna_height_m, az_beamwidth_rad, el_beamwidth_rad, pulse_width_s, wavelength_m, sea_state):
+def sea_clutter_rcs_m2(range_m, antenna_height_m, az_beamwidth_rad, el_beamwidth_rad, pulse_width_s, wavelength_m, sea_state,
+                       model="nrl", polarization="horizontal"):
     """Sea-clutter cross-section ``σ_c = σ° A`` (m²) of one resolution cell.
 
-    σ° = γ sin ψ with Barton's γ (10 log10 γ = 6 K_B − 10 log10 λ − 64, book eq (8.29),
-    :func:`diffsense.physics.clutter.sea_clutter_gamma_db`), the Beaufort force from the sea state by the
-    book's Table 12.2 (:func:`diffsense.physics.clutter.beaufort_from_sea_state`), ψ from
-    :func:`sea_grazing_angle_rad`, and A the smooth minimum of the beam- and pulse-limited areas
-    (book §8.13, :func:`diffsense.physics.clutter.surface_clutter_area_m2`, ≤ 0.19 dB below the exact
-    minimum at the crossover).
+    σ° of :func:`diffsense.physics.sea_clutter.sea_clutter_sigma0` (``model`` ``"nrl"``: the NRL
+    model, continued as ψ⁴ below 0.1°; ``"constant_gamma"``: γ sin ψ with Barton's γ, book eq
+    (8.29), grazing 1°-60° only), ψ from :func:`sea_grazing_angle_rad` (4/3 earth; beyond the
+    antenna's horizon ψ is held at :data:`SEA_GRAZING_FLOOR_RAD`, where the NRL clutter has
+    vanished), and A the smooth minimum of the beam- and pulse-limited areas (book §8.13,
+    :func:`diffsense.physics.clutter.surface_clutter_area_m2`, ≤ 0.19 dB below the exact minimum
+    at the crossover).
 
     Args: range_m (> antenna height); antenna_height_m (0, ∞); beamwidths (rad) (0, π);
-    pulse_width_s (0, ∞); wavelength_m [1e-3, 1]; sea_state (0, 6] (continuous).
-    Constant-γ model: valid in the plateau region (ψ ≳ 1°); it omits the near-grazing fall-off.
+    pulse_width_s: the width of the received echo (s), τ for an ideal matched filter
+    (:func:`diffsense.physics.received_pulse.received_pulse_width_s`), (0, ∞);
+    wavelength_m (0, ∞) (frequency in the model's domain); sea_state (continuous, see the model);
+    model, polarization: static.
     """
-    psi = sea_grazing_angle_rad(range_m, antenna_height_m)
-    gamma_db = _clutter.sea_clutter_gamma_db(_clutter.beaufort_from_sea_state(sea_state), wavelength_m)
-    sigma0 = from_db10(gamma_db) * jnp.sin(psi)
+    psi = jnp.maximum(sea_grazing_angle_rad(range_m, antenna_height_m), SEA_GRAZING_FLOOR_RAD)
+    sigma0 = sea_clutter_sigma0(psi, SPEED_OF_LIGHT_M_S / _f(wavelength_m), sea_state, model, polarization)
     area = _clutter.surface_clutter_area_m2(range_m, az_beamwidth_rad, el_beamwidth_rad, pulse_width_s, psi)
     return sigma0 * area
 
 
-def sea_clutter_scr_db(rcs_m2, range_m, antenna_height_m, az_beamwidth_rad, el_beamwidth_rad, pulse_width_s, wavelength_m, sea_state):
+def sea_clutter_scr_db(rcs_m2, range_m, antenna_height_m, az_beamwidth_rad, el_beamwidth_rad, pulse_width_s, wavelength_m, sea_state,
+                       model="nrl", polarization="horizontal"):
     """Signal-to-sea-clutter ratio ``10 log10(σ / σ_c)`` (dB), σ_c from :func:`sea_clutter_rcs_m2`.
 
     Args: rcs_m2 (0, ∞) and those of :func:`sea_clutter_rcs_m2`.
     """
     check_range("rcs_m2", rcs_m2, 0.0, None, lo_open=True, where="radar.sea_clutter_scr_db")
-    sc = sea_clutter_rcs_m2(range_m, antenna_height_m, az_beamwidth_rad, el_beamwidth_rad, pulse_width_s, wavelength_m, sea_state)
+    sc = sea_clutter_rcs_m2(range_m, antenna_height_m, az_beamwidth_rad, el_beamwidth_rad, pulse_width_s, wavelength_m, sea_state,
+                            model, polarization)
     return db10(rcs_m2) - db10(sc)
 
 
-def wall_illumination_factor(range_m, pass_diameter_m, beamwidth_rad):
+def wall_illumination_factor(range_m, pass_diameter_m, beamwidth_rad, sidelobe_level_db=None):
     """Two-way beam weight on the wall of a shaft looked down along its axis (0 ... 1).
 
-    The wall inside a range gate at range R lies at the off-axis angle θ_w = arctan(d / (2R));
-    with the Gaussian approximation of the main beam, G(θ)/G0 = exp(−4 ln 2 θ²/θ3²), its echo is
-    weighted two-way by ``exp(−8 ln 2 θ_w² / θ3²)`` relative to a beam that fills the pass
-    (the book's worst case, §8.16.6, Fig. 8.45). Sidelobes are not modelled.
+    The wall inside a range gate at range R lies at the off-axis angle θ_w = arctan(d / (2R)).
+    The one-way power pattern is the Gaussian main lobe g(θ) = exp(−4 ln 2 θ²/θ3²)
+    (relative to the peak) resting on a sidelobe floor s (one-way power, relative to the peak):
 
-    Args: range_m R (m), (0, ∞); pass_diameter_m d (m), (0, ∞); beamwidth_rad θ3 (rad), (0, π).
-    Source of the beam model: Gaussian main-lobe approximation (e.g. Probert-Jones 1962,
-    Q. J. R. Meteorol. Soc. 88:485; Doviak & Zrnić, *Doppler Radar and Weather Observations*).
+        ``g(θ) = exp(−4 ln 2 θ²/θ3²) + s (1 − exp(−4 ln 2 θ²/θ3²))``,   ``w = g(θ_w)²``
+
+    (1 on the axis, s² two-way far off it: the wall seen through the sidelobes on transmit and
+    receive). The two-way weight is relative to a beam that fills the pass (the book's worst case,
+    §8.16.6, Fig. 8.45). Without ``sidelobe_level_db`` (None) the floor is absent and
+    w = exp(−8 ln 2 θ_w²/θ3²), which falls without bound as the beam narrows.
+
+    Args: range_m R (m), (0, ∞); pass_diameter_m d (m), (0, ∞); beamwidth_rad θ3 (rad), (0, π);
+    sidelobe_level_db: s (dB), [-80, 0], or None.
+    Sources: Gaussian main-lobe approximation (e.g. Probert-Jones 1962, Q. J. R. Meteorol. Soc.
+    88:485; Doviak & Zrnić, *Doppler Radar and Weather Observations*); the first sidelobe of a
+    uniformly illuminated circular aperture is −17.6 dB (the Airy pattern), that of a tapered
+    reflector −25 to −30 dB (Skolnik, *Introduction to Radar Systems*, 3rd ed., §9.3).
+
+    A wall one beamwidth off the axis (θ_w = θ3) with a −25 dB floor, against the formula:
+
+    >>> import math
+    >>> g = 2 ** -4 + 10 ** -2.5 * (1 - 2 ** -4)
+    >>> float(wall_illumination_factor(1.0, 2 * math.tan(0.01), 0.01, -25.0)), g * g
+    (0.00428562, 0.00428562)
     """
     w = "radar.wall_illumination_factor"
     check_range("range_m", range_m, 0.0, None, lo_open=True, where=w)
     check_range("pass_diameter_m", pass_diameter_m, 0.0, None, lo_open=True, where=w)
     check_range("beamwidth_rad", beamwidth_rad, 0.0, math.pi, lo_open=True, hi_open=True, where=w)
     theta_w = jnp.arctan(0.5 * _f(pass_diameter_m) / _f(range_m))
-    return jnp.exp(-8.0 * math.log(2.0) * (theta_w / _f(beamwidth_rad)) ** 2)
+    main = jnp.exp(-4.0 * math.log(2.0) * (theta_w / _f(beamwidth_rad)) ** 2)
+    if sidelobe_level_db is None:
+        return main * main
+    check_range("sidelobe_level_db", sidelobe_level_db, -80.0, 0.0, where=w)
+    s = from_db10(sidelobe_level_db)
+    g = main + s * (1.0 - main)
+    return g * g
 
 
 def wall_clutter_rcs_m2(pass_diameter_m, range_gate_m, wall_reflectivity_db, illumination=1.0):

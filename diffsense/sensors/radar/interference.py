@@ -9,15 +9,43 @@ evaluated at any range R (m), so the detection-range and burn-through root finds
 
 from __future__ import annotations
 
+import jax
 import jax.numpy as jnp
 
+from diffsense.numerics.checks import is_concrete
 from diffsense.numerics.db import db10, power_sum_db
+from diffsense.physics.sea_clutter import sea_clutter_sigma0_db
 from diffsense.physics.waveforms import range_resolution_pulse_m
+from diffsense.sensors.radar import equation as eq
 from diffsense.sensors.radar import parts
 from diffsense.sensors.radar.link_budget import Antenna, Link
 from diffsense.sensors.radar.structure import clutter_parts_present, option
 
-__all__ = ["Interference"]
+__all__ = ["Interference", "check_sea_clutter_domain"]
+
+
+def _sea_clutter_part(scene):
+    """The sea-clutter part function of options ``sea_clutter_model`` and ``polarization``."""
+    if option(scene, "sea_clutter_model") == "constant_gamma":
+        return parts.sea_clutter_rcs_constant_gamma_m2
+    if option(scene, "polarization") == "vertical":
+        return parts.sea_clutter_rcs_nrl_vertical_m2
+    return parts.sea_clutter_rcs_nrl_horizontal_m2
+
+
+def check_sea_clutter_domain(scene, p):
+    """With sea clutter and concrete inputs, the sea-clutter model must hold at ``range_m``
+    (DomainError otherwise): NRL 0.5-35 GHz, sea state 0-6, grazing up to 60° (any grazing angle
+    below, through its ψ⁴ continuation); constant γ grazing 1°-60° (the plateau region)."""
+    if not scene.has("sea_clutter"):
+        return
+    args = (p["range_m"], p["antenna_height_m"], p["freq_hz"], p["sea_state"])
+    if not all(is_concrete(x) for x in args):
+        return
+    with jax.ensure_compile_time_eval():  # concrete inputs: evaluate eagerly even under a trace
+        psi = jnp.maximum(eq.sea_grazing_angle_rad(p["range_m"], p["antenna_height_m"]), eq.SEA_GRAZING_FLOOR_RAD)
+        sea_clutter_sigma0_db(psi, p["freq_hz"], p["sea_state"], option(scene, "sea_clutter_model"),
+                              option(scene, "polarization"))
 
 
 class Interference:
@@ -44,26 +72,28 @@ class Interference:
                                        p["jammer_bandwidth_hz"], p["bandwidth_hz"], att)
 
     def clutter_rcs_m2(self, r):
-        """Total clutter cross-section (m²) in the resolution cell at range r."""
+        """Total clutter cross-section (m²) in the resolution cell at range r; the cell is as long
+        as the echo leaving the IF filter (c W/2, :attr:`Link.received_width_s`)."""
         scene, p, lam = self._scene, self._p, self._lam
-        bw_az, bw_el, tau = self._ant.beamwidth_az_rad, self._ant.beamwidth_el_rad, p["pulse_width_s"]
+        bw_az, bw_el, width = self._ant.beamwidth_az_rad, self._ant.beamwidth_el_rad, self._link.received_width_s
         total = 0.0
         if scene.has("rain_clutter"):
             if option(scene, "rain_clutter_model") == "marshall_palmer":
-                total = total + parts.rain_clutter_rcs_marshall_palmer_m2(r, p["rain_rate_mm_h"], lam, bw_az, bw_el, tau,
+                total = total + parts.rain_clutter_rcs_marshall_palmer_m2(r, p["rain_rate_mm_h"], lam, bw_az, bw_el, width,
                                                                           p["beam_shape_factor"])
             else:
-                total = total + parts.rain_clutter_rcs_given_m2(r, p["rain_reflectivity_m2_m3"], bw_az, bw_el, tau,
+                total = total + parts.rain_clutter_rcs_given_m2(r, p["rain_reflectivity_m2_m3"], bw_az, bw_el, width,
                                                                 p["beam_shape_factor"])
         if scene.has("dust_clutter"):
-            total = total + parts.dust_clutter_rcs_m2(r, p["visibility_m"], lam, bw_az, bw_el, tau, p["beam_shape_factor"])
+            total = total + parts.dust_clutter_rcs_m2(r, p["visibility_m"], lam, bw_az, bw_el, width, p["beam_shape_factor"])
         if scene.has("sea_clutter"):
-            total = total + parts.sea_clutter_rcs_m2(r, p["antenna_height_m"], bw_az, bw_el, tau, lam, p["sea_state"])
+            total = total + _sea_clutter_part(scene)(r, p["antenna_height_m"], bw_az, bw_el, width, lam, p["sea_state"])
         if scene.has("wall_clutter"):
-            gate = range_resolution_pulse_m(tau)
+            gate = range_resolution_pulse_m(width)
             if option(scene, "wall_illumination") == "gaussian_beam":
                 total = total + parts.wall_clutter_rcs_gaussian_beam_m2(r, p["pass_diameter_m"], gate,
-                                                                        p["wall_reflectivity_db"], bw_az)
+                                                                        p["wall_reflectivity_db"], bw_az,
+                                                                        p["sidelobe_level_db"])
             else:
                 total = total + parts.wall_clutter_rcs_filled_m2(r, p["pass_diameter_m"], gate, p["wall_reflectivity_db"])
         return total

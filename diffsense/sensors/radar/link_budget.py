@@ -9,6 +9,14 @@ Terms, top to bottom (see :mod:`diffsense.sensors.radar.chain`)::
     <part>_attenuation_db −2 α R/1000, multipath_db +40 log10|F|,
     boltzmann_db −10 log10(k T0), bandwidth_db −10 log10 β, noise_figure_db −NF, receive_loss_db −L_rx.
 
+With the option ``noise_input="temperature"`` the line ``noise_figure_db`` becomes
+``system_temperature_db`` −10 log10(Ts/T0): N = k Ts β L_rx, identical to the figure form when
+Ts = T0 F (Ts = Ta + T0 (F − 1) with Ta = T0; IEEE Std 145-1993, Blake 1986 ch. 4).
+
+The echo leaves the IF filter :func:`received_width_s` wide (half-amplitude width, τ for the ideal
+matched filter, :mod:`diffsense.physics.received_pulse`); the range resolution c W/2, the range
+gate and the clutter cells follow that width.
+
 The terms that do not depend on range are evaluated once; :class:`Link` evaluates the others at
 any range, so the detection-range root finds reuse it.
 """
@@ -29,14 +37,15 @@ from diffsense.physics import antennas as _ant
 from diffsense.physics.constants import BOLTZMANN_J_K, REFERENCE_TEMPERATURE_K
 from diffsense.physics.propagation.free_space import atmospheric_two_way_loss_db
 from diffsense.physics.propagation.refraction import radar_horizon_m
+from diffsense.physics.received_pulse import received_pulse_width_s
 from diffsense.physics.waveforms import duty_cycle, range_resolution_pulse_m, unambiguous_range_m, update_rate_hz
 from diffsense.sensors.chain import Budget, BudgetBuilder
 from diffsense.sensors.radar import equation as eq
 from diffsense.sensors.radar import parts
 from diffsense.sensors.radar.structure import option
 
-__all__ = ["Antenna", "antenna", "matched_filter_loss_db", "specific_attenuations_db_km", "check_inside_horizon",
-           "Link", "link_outputs"]
+__all__ = ["Antenna", "antenna", "matched_filter_loss_db", "received_width_s", "specific_attenuations_db_km",
+           "check_inside_horizon", "Link", "link_outputs"]
 
 #: −10 log10(k T0) (dBW/Hz): the noise density of the reference temperature, with its sign in the budget.
 _BOLTZMANN_TERM_DB = -DB_PER_NEPER * math.log(BOLTZMANN_J_K * REFERENCE_TEMPERATURE_K)
@@ -72,6 +81,27 @@ def matched_filter_loss_db(scene, p):
         lo, hi = (0.01, 2.86) if mf == "rectangular" else (0.01, 50.0)
         check_range("bandwidth_hz * pulse_width_s", bt, lo, hi, where=f"radar chain, matched_filter={mf!r}")
     return _det.matched_filter_loss_db(bt, mf)
+
+
+def received_width_s(scene, p):
+    """Half-amplitude width (s) of the echo after the IF filter of option ``matched_filter``
+    (:func:`diffsense.physics.received_pulse.received_pulse_width_s`; τ for ``"matched"``)."""
+    return received_pulse_width_s(p["pulse_width_s"], p["bandwidth_hz"], option(scene, "matched_filter"))
+
+
+def _noise_terms(scene, p):
+    """The noise lines of the budget: −10 log10(k T0), −10 log10 β, −NF (or −10 log10(Ts/T0)), −L_rx."""
+    beta = p["bandwidth_hz"]
+    if option(scene, "noise_input") == "temperature":
+        receiver = ("system_temperature_db", -db10(p["system_noise_temperature_k"] / REFERENCE_TEMPERATURE_K))
+    else:
+        receiver = ("noise_figure_db", -p["noise_figure_db"])
+    return [
+        ("boltzmann_db", _BOLTZMANN_TERM_DB * jnp.ones_like(beta)),
+        ("bandwidth_db", -db10(beta)),
+        receiver,
+        ("receive_loss_db", -p["receive_loss_db"]),
+    ]
 
 
 def specific_attenuations_db_km(scene, p):
@@ -128,7 +158,8 @@ class Link:
         self.alphas = specific_attenuations_db_km(scene, p)
         self.multipath = _multipath_db(scene, p)
         mf_loss = matched_filter_loss_db(scene, p)
-        beta = p["bandwidth_hz"]
+        #: half-amplitude width of the echo after the IF filter (s): range resolution, gates, clutter cells
+        self.received_width_s = received_width_s(scene, p)
         self.const_terms = [
             ("peak_power_dbw", db10(p["peak_power_w"])),
             ("transmit_loss_db", -p["transmit_loss_db"]),
@@ -140,14 +171,9 @@ class Link:
         if mf_loss is not None:
             self.loss_terms.append(("matched_filter_loss_db", -mf_loss))
         self.loss_terms += [("cfar_loss_db", -p["cfar_loss_db"]), ("misc_loss_db", -p["misc_loss_db"])]
-        self.noise_terms = [
-            ("boltzmann_db", _BOLTZMANN_TERM_DB * jnp.ones_like(beta)),
-            ("bandwidth_db", -db10(beta)),
-            ("noise_figure_db", -p["noise_figure_db"]),
-            ("receive_loss_db", -p["receive_loss_db"]),
-        ]
+        self.noise_terms = _noise_terms(scene, p)
         self.signal_const = sum(v for _, v in self.const_terms + self.loss_terms)
-        #: receiver noise N = k T0 β F L_rx (dBW)
+        #: receiver noise N = k T0 β F L_rx = k Ts β L_rx (dBW)
         self.noise_dbw = -sum(v for _, v in self.noise_terms)
 
     @property
@@ -195,7 +221,7 @@ def link_outputs(p, link: Link, ant: Antenna, wavelength_m, snr_db, signal_dbw):
         "gain_db": ant.gain_db,
         "beamwidth_deg": jnp.rad2deg(ant.beamwidth_az_rad),
         "beamwidth_el_deg": jnp.rad2deg(ant.beamwidth_el_rad),
-        "range_resolution_m": range_resolution_pulse_m(tau),
+        "range_resolution_m": range_resolution_pulse_m(link.received_width_s),
         "unambiguous_range_m": unambiguous_range_m(prf),
         "update_rate_hz": update_rate_hz(prf, p["n_pulses"]),
         "duty_cycle": duty,

@@ -17,15 +17,23 @@ __all__ = ["BOOK_BEAMWIDTH_FACTOR", "radar_parameters", "radar_outputs"]
 BOOK_BEAMWIDTH_FACTOR = _ant.BOOK_CIRCULAR_BEAMWIDTH_DEG_FACTOR * math.pi / 180.0
 
 
-def _core_parameters():
+def _noise_parameter(scene):
+    if option(scene, "noise_input") == "temperature":
+        return Param("system_noise_temperature_k", "K", "system noise temperature Ts = Ta + T0 (F - 1) referred to the "
+                     "receiver input (IEEE Std 145; Ts = T0 F = 290 F when Ta = T0); N = k Ts β L_rx", None, 1.0, 1e7)
+    return Param("noise_figure_db", "dB", "receiver noise figure NF referred to the receiver input", None, 0.0, 60.0)
+
+
+def _core_parameters(scene):
     return [
         Param("range_m", "m", "target range R at which SNR, Pd and margins are evaluated", None, 1.0, 1e7),
         Param("peak_power_w", "W", "transmitter peak power Pt (before the transmit loss)", None, 0.0, 1e10, lo_open=True),
-        Param("pulse_width_s", "s", "pulse length τ (uncompressed); range resolution c τ / 2", None, 1e-10, 1.0),
+        Param("pulse_width_s", "s", "pulse length τ (uncompressed); the echo leaves the IF filter W wide "
+              "(τ for a matched filter) and the range resolution is c W / 2", None, 1e-10, 1.0),
         Param("freq_hz", "Hz", "carrier frequency f; λ = c / f (1-300 GHz: the ITU-R models start at 1 GHz)", None, 1e9, 3e11),
         Param("bandwidth_hz", "Hz", "receiver (IF / matched-filter) noise bandwidth β", None, 1e2, 1e11),
         Param("rcs_m2", "m**2", "mean target radar cross-section σ (book 9.9.1: 1 m²)", 1.0, 0.0, 1e9, lo_open=True),
-        Param("noise_figure_db", "dB", "receiver noise figure NF referred to the receiver input", None, 0.0, 60.0),
+        _noise_parameter(scene),
         Param("transmit_loss_db", "dB", "transmit line / duplexer loss L_tx (book 9.9.1: 2 dB)", 0.0, 0.0, 60.0),
         Param("receive_loss_db", "dB", "receive line loss L_rx, added to the noise (book 9.9.1.3: 2 dB)", 0.0, 0.0, 60.0),
         Param("scan_loss_db", "dB", "beam-shape / scanning loss (book 9.9.1: 1.6 dB for 1-D scan)", 0.0, 0.0, 60.0),
@@ -112,6 +120,10 @@ def _clutter_parameters(scene):
             Param("pass_diameter_m", "m", "ore-pass (shaft) diameter (book 8.16.1: 6 m)", 6.0, 0.0, 100.0, lo_open=True, part="wall_clutter"),
             Param("wall_reflectivity_db", "dB", "mean wall reflectivity σ° (book 8.16.5: -10 dB)", -10.0, -60.0, 20.0, part="wall_clutter"),
         ]
+        if option(scene, "wall_illumination") == "gaussian_beam":
+            ps.append(Param("sidelobe_level_db", "dB", "one-way antenna sidelobe level relative to the main-beam peak, "
+                            "the floor of the beam's weight on the wall (-25 dB: a tapered reflector; uniform circular "
+                            "aperture -17.6 dB)", -25.0, -80.0, 0.0, part="wall_clutter"))
     present = clutter_parts_present(scene)
     if present:
         ps.append(Param("required_scr_db", "dB", "signal-to-clutter ratio needed for detection (book 8.16.6: 13 dB)", 13.0, -20.0, 60.0, part=present[0]))
@@ -144,6 +156,9 @@ def _tracking_parameters(scene):
               part="tracking"),
         Param("target_acceleration_m_s2", "m/s**2", "target acceleration a driving the range and angle lags "
               "(book 13.6 ablag.m: 10 m/s²)", 10.0, 0.0, 1e4, lo_open=True, part="tracking"),
+        Param("platform_angular_acceleration_rad_s2", "rad/s**2", "angular acceleration of the platform that reaches "
+              "the angle servo, added to a/R (ship motion less the mount's stabilisation; 0: a perfectly "
+              "stabilised or fixed mount)", 0.0, 0.0, 100.0, part="tracking"),
         Param("servo_bandwidth_hz", "Hz", "equivalent noise bandwidth β_n of the type-2 angle servo (book 14.7)",
               None, 0.0, 1e3, lo_open=True, part="tracking"),
         Param("monopulse_slope", "1", "monopulse gain constant k_m (book 14.7: typically 1.6)",
@@ -156,7 +171,7 @@ def _tracking_parameters(scene):
 def radar_parameters(scene):
     """``{name: Param}`` of a radar scene, in a fixed order: core, antenna, detectability, path,
     clutter, jammer, tracking."""
-    return collect(_core_parameters() + _antenna_parameters(scene) + _detectability_parameters(scene)
+    return collect(_core_parameters(scene) + _antenna_parameters(scene) + _detectability_parameters(scene)
                    + _path_parameters(scene) + _clutter_parameters(scene) + _jammer_parameters(scene)
                    + _tracking_parameters(scene))
 
@@ -175,7 +190,8 @@ _CORE_OUTPUTS = (
     Output("gain_db", "dB", "antenna gain"),
     Output("beamwidth_deg", "deg", "azimuth 3 dB beamwidth"),
     Output("beamwidth_el_deg", "deg", "elevation 3 dB beamwidth"),
-    Output("range_resolution_m", "m", "c τ / 2"),
+    Output("range_resolution_m", "m", "c W / 2: W the half-amplitude width of the echo after the IF filter "
+           "(W = τ for the matched filter)"),
     Output("unambiguous_range_m", "m", "c / (2 f_p)"),
     Output("update_rate_hz", "Hz", "f_p / N"),
     Output("duty_cycle", "1", "τ f_p"),
@@ -185,7 +201,7 @@ _CORE_OUTPUTS = (
 
 _TRACKING_OUTPUTS = (
     Output("track_beta", "1", "velocity gain β of the α-β range tracker"),
-    Output("range_noise_m", "m", "split-gate measurement noise σ_R = (c τ/2)/(2.5 √(2 SNR)) at range_m"),
+    Output("range_noise_m", "m", "split-gate measurement noise σ_R = (c W/2)/(2.5 √(2 SNR)) at range_m (gate c W/2)"),
     Output("range_variance_reduction", "1", "K_x = Σh², output over input noise variance of the α-β filter"),
     Output("range_track_noise_m", "m", "range noise after the α-β filter σ_R √K_x"),
     Output("range_lag_m", "m", "steady lag of the smoothed range behind the acceleration, a T²(1 − α)/β"),

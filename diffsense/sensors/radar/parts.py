@@ -34,7 +34,9 @@ __all__ = [
     "rain_clutter_rcs_marshall_palmer_m2",
     "rain_clutter_rcs_given_m2",
     "dust_clutter_rcs_m2",
-    "sea_clutter_rcs_m2",
+    "sea_clutter_rcs_nrl_horizontal_m2",
+    "sea_clutter_rcs_nrl_vertical_m2",
+    "sea_clutter_rcs_constant_gamma_m2",
     "wall_clutter_rcs_gaussian_beam_m2",
     "wall_clutter_rcs_filled_m2",
     "multipath_horizontal_db",
@@ -110,15 +112,32 @@ def dust_clutter_rcs_m2(range_m, visibility_m, wavelength_m, bw_az, bw_el, pulse
 
 
 @scene_part("sea_clutter")
-def sea_clutter_rcs_m2(range_m, antenna_height_m, bw_az, bw_el, pulse_width_s, wavelength_m, sea_state):
-    """Sea clutter σ = γ sin ψ · A (m²), see :func:`diffsense.sensors.radar.equation.sea_clutter_rcs_m2`."""
-    return eq.sea_clutter_rcs_m2(range_m, antenna_height_m, bw_az, bw_el, pulse_width_s, wavelength_m, sea_state)
+def sea_clutter_rcs_nrl_horizontal_m2(range_m, antenna_height_m, bw_az, bw_el, pulse_width_s, wavelength_m, sea_state):
+    """Sea clutter σ = σ° A (m²), NRL model, horizontal polarization (4/3-earth grazing angle)."""
+    return eq.sea_clutter_rcs_m2(range_m, antenna_height_m, bw_az, bw_el, pulse_width_s, wavelength_m, sea_state,
+                                 "nrl", "horizontal")
+
+
+@scene_part("sea_clutter")
+def sea_clutter_rcs_nrl_vertical_m2(range_m, antenna_height_m, bw_az, bw_el, pulse_width_s, wavelength_m, sea_state):
+    """Sea clutter σ = σ° A (m²), NRL model, vertical polarization (4/3-earth grazing angle)."""
+    return eq.sea_clutter_rcs_m2(range_m, antenna_height_m, bw_az, bw_el, pulse_width_s, wavelength_m, sea_state,
+                                 "nrl", "vertical")
+
+
+@scene_part("sea_clutter")
+def sea_clutter_rcs_constant_gamma_m2(range_m, antenna_height_m, bw_az, bw_el, pulse_width_s, wavelength_m, sea_state):
+    """Sea clutter σ = γ sin ψ · A (m²), Barton's γ (book 8.12.4; grazing 1-60 deg)."""
+    return eq.sea_clutter_rcs_m2(range_m, antenna_height_m, bw_az, bw_el, pulse_width_s, wavelength_m, sea_state,
+                                 "constant_gamma")
 
 
 @scene_part("wall_clutter")
-def wall_clutter_rcs_gaussian_beam_m2(range_m, pass_diameter_m, range_gate_m, wall_reflectivity_db, beamwidth_rad):
-    """Ore-pass wall clutter weighted by the two-way Gaussian beam at the wall angle (m²)."""
-    w = eq.wall_illumination_factor(range_m, pass_diameter_m, beamwidth_rad)
+def wall_clutter_rcs_gaussian_beam_m2(range_m, pass_diameter_m, range_gate_m, wall_reflectivity_db, beamwidth_rad,
+                                      sidelobe_level_db):
+    """Ore-pass wall clutter weighted two-way by the Gaussian beam on its sidelobe floor at the wall
+    angle (m²)."""
+    w = eq.wall_illumination_factor(range_m, pass_diameter_m, beamwidth_rad, sidelobe_level_db)
     return eq.wall_clutter_rcs_m2(pass_diameter_m, range_gate_m, wall_reflectivity_db, w)
 
 

@@ -3,7 +3,8 @@
 the tracking noise). Every relation is one of :mod:`diffsense.physics.tracking`.
 
 * Range: an α-β filter sampled at the PRF (T = 1/f_p) smooths a split-gate range tracker of
-  gate c τ/2. Measurement noise σ_R = (c τ/2)/(2.5 √(2 SNR)), output noise σ_R √K_x with the
+  gate c W/2 (W the echo's width after the IF filter, τ for a matched filter). Measurement noise
+  σ_R = (c W/2)/(2.5 √(2 SNR)), output noise σ_R √K_x with the
   variance reduction K_x = Σh² of the position transfer function, lag a T²(1 − α)/β behind a
   constant acceleration a, and the book's cost √(lag² + σ_R² K_x) (book §13.4.1, §13.6
   ``ablag.m``). β follows α by the Benedict–Bordner relation β = α²/(2 − α) (book eq 13.11)
@@ -14,6 +15,9 @@ the tracking noise). Every relation is one of :mod:`diffsense.physics.tracking`.
   bandwidth β_o that minimises σ_θ² (book eq 14.12); and β_n over the positioner's lowest
   resonance, which the book keeps below 10 % (§14.6).
 
+The angle servo also follows the platform's own angular acceleration Ω̇ that reaches it (a ship's
+roll, pitch and yaw less what a stabilised mount removes): its lag is that of the angular
+acceleration a/R + Ω̇ (the worst case, both in the same sense; book 14.9.1 lists the ship motion).
 The same acceleration a drives the range and the angle lag (the book applies eq 14.10 to each
 axis with its own component; here one worst-case value).
 """
@@ -29,20 +33,22 @@ from diffsense.sensors.radar.structure import option
 __all__ = ["tracking_outputs"]
 
 
-def tracking_outputs(scene, p, snr_db, beamwidth_rad):
-    """Range and angle tracking outputs at ``range_m`` for the single-pulse ``snr_db`` (dB) and
-    the azimuth beamwidth (rad)."""
+def tracking_outputs(scene, p, snr_db, beamwidth_rad, received_width_s):
+    """Range and angle tracking outputs at ``range_m`` for the single-pulse ``snr_db`` (dB), the
+    azimuth beamwidth (rad) and the width of the echo after the IF filter (s), whose c W/2 is the
+    split gate."""
     alpha = p["track_alpha"]
     if option(scene, "tracking_gains") == "critically_damped":
         beta = parts.tracking_beta_critically_damped(alpha)
     else:
         beta = parts.tracking_beta_benedict_bordner(alpha)
     accel = p["target_acceleration_m_s2"]
-    gate = range_resolution_pulse_m(p["pulse_width_s"])
+    gate = range_resolution_pulse_m(received_width_s)
     sigma, vrr, lag, cost = parts.range_tracking_errors(alpha, beta, gate, snr_db, p["prf_hz"], accel)
     bn = p["servo_bandwidth_hz"]
     noise_var, angle_lag, angle_var, beta_o = parts.angle_tracking_errors(
-        bn, beamwidth_rad, p["prf_hz"], p["bandwidth_hz"] * p["pulse_width_s"], snr_db, accel, p["range_m"],
+        bn, beamwidth_rad, p["prf_hz"], p["bandwidth_hz"] * p["pulse_width_s"], snr_db,
+        accel + p["platform_angular_acceleration_rad_s2"] * p["range_m"], p["range_m"],
         p["monopulse_slope"])
     angle_error = jnp.sqrt(angle_var)
     return {

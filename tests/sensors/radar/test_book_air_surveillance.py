@@ -12,6 +12,7 @@ Pfa 1e-10, Pd 0.9, 10 pulses, Swerling 2 → per-pulse requirement 15.2 + 8 − 
 import math
 
 import mpmath as mp
+import pytest
 from scipy.special import gammainccinv
 
 import diffsense  # noqa: F401
@@ -95,18 +96,41 @@ def test_detection_range_in_heavy_rain_216_km_book_9_9_3():
     assert abs(r / book_root("0.02") - 1) < 0.01
 
 
+def two_tuned_echo_width_over_tau(bt):
+    """Half-amplitude width / τ of a rectangular pulse after two cascaded tuned circuits of 3 dB
+    band β (βτ = bt): envelope P(2, u) − P(2, u − w), u = ω0 t, ω0 = π β / sqrt(√2 − 1),
+    w = ω0 τ, crossings of half its peak found by mpmath (40 digits)."""
+    w = mp.pi * mp.mpf(bt) / mp.sqrt(mp.sqrt(2) - 1)
+    p2 = lambda u: mp.gammainc(2, 0, u, regularized=True) if u > 0 else mp.mpf(0)
+    y = lambda u: p2(u) - p2(u - w)
+    u_peak = w / (1 - mp.exp(-w))  # h(u) = h(u - w) for the Gamma(2) impulse response
+    half = y(u_peak) / 2
+    rise = mp.findroot(lambda u: y(u) - half, (mp.mpf("1e-12"), u_peak), solver="anderson")
+    fall = mp.findroot(lambda u: y(u) - half, (u_peak, u_peak + w + 60), solver="anderson")
+    return float((fall - rise) / w)
+
+
 def test_rain_clutter_limited_range_1274_m_book_9_9_3():
     # η = 1e-7 m²/m³, beam 0.02 x 0.07 rad (the radians the book puts in its formula), τ = 2 µs,
-    # α = 1.33, required SCR = SNR1 = 15.2 dB -> 1274 m. The book rounds σ_clut = 1.86e-8 R² and
-    # uses c = 3e8 (0.05 % in range): tolerance 0.2 %.
-    ev = run(
-        RAIN_CLUTTER, rain_attenuation_db_km=0.02, rain_reflectivity_m2_m3=1e-7, required_scr_db=15.2,
-        beamwidth_az_deg=math.degrees(0.02), beamwidth_el_deg=math.degrees(0.07),
-    )
+    # α = 1.33, required SCR = SNR1 = 15.2 dB -> 1274 m. The book's cell is c τ/2 long, the echo
+    # of an ideal matched filter (option matched_filter = "matched"). The book rounds
+    # σ_clut = 1.86e-8 R² and uses c = 3e8 (0.05 % in range): tolerance 0.2 %.
+    extra = dict(rain_attenuation_db_km=0.02, rain_reflectivity_m2_m3=1e-7, required_scr_db=15.2,
+                 beamwidth_az_deg=math.degrees(0.02), beamwidth_el_deg=math.degrees(0.07))
+    matched = Scene("radar", ["rain", "rain_clutter"],
+                    dict(OPTS, matched_filter="matched", rain_model="specified", rain_clutter_model="specified"))
+    ev = run(matched, **extra)
     assert float(ev["detection_range_found"]) == 1.0
     assert abs(float(ev["detection_range_m"]) / 1274.0 - 1) < 0.002
     # at 300 km the rain clutter swamps the target: σ_clut = -77.3 + 20 log10 R dBsm
     assert abs(float(ev["scr_db"]) - (0.0 - (-77.3 + 20 * math.log10(300e3)))) < 0.02
+    # the book's two tuned circuits at βτ = 0.613 let the echo out W = 1.148 τ wide: the cell grows
+    # by W/τ and the clutter-limited range (σ_clut ∝ R²) shrinks by sqrt(τ/W); the noise term of the
+    # margin is 100 dB below at 1.2 km
+    tuned = run(RAIN_CLUTTER, **extra)
+    ratio = two_tuned_echo_width_over_tau(0.613)
+    assert abs(ratio - 1.1484) < 1e-4
+    assert float(tuned["detection_range_m"]) == pytest.approx(float(ev["detection_range_m"]) / math.sqrt(ratio), rel=1e-9)
 
 
 def test_rgcalc_matched_bandwidth_adds_2_1_db_of_noise_book_9_9_2():

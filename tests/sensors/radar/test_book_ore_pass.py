@@ -98,14 +98,30 @@ def test_wall_clutter_scr_5_7_db_when_the_beam_fills_the_pass_book_8_16_6():
 
 
 def test_narrow_beam_keeps_the_wall_out_gaussian_beam_weight():
-    # with the 0.89° beam the wall at θ_w = atan(3/300) is weighted by exp(-8 ln2 (θ_w/θ3)²)
+    # with the 0.89° beam the wall at θ_w = atan(3/300) is weighted two-way by the Gaussian main
+    # lobe e = exp(-4 ln2 (θ_w/θ3)²) on the default -25 dB sidelobe floor s: (e + s (1 - e))²
     filled = budget(pulse_width_s=2.0 / (SPEED_OF_LIGHT_M_S / 2))
     ev = run(ANTENNA, antenna_diameter_m=0.25, aperture_efficiency=0.7, detectability_db=16.3,
              pulse_width_s=2.0 / (SPEED_OF_LIGHT_M_S / 2))
     th = math.radians(float(ev["beamwidth_deg"]))
-    weight_db = 10 * math.log10(math.exp(-8 * math.log(2) * (math.atan(3.0 / 300.0) / th) ** 2))
+    e = math.exp(-4 * math.log(2) * (math.atan(3.0 / 300.0) / th) ** 2)
+    s = 10 ** (-25 / 10)
+    weight_db = 10 * math.log10((e + s * (1 - e)) ** 2)
     assert abs(float(ev["scr_db"]) - (float(filled["scr_db"]) - weight_db)) < 1e-9
     assert float(ev["scr_margin_db"]) > 0.0  # above the 13 dB the book asks for
+
+
+def test_sidelobe_floor_bounds_the_wall_clutter_of_a_narrow_beam():
+    # close to the radar the wall is far off the axis: without a floor the Gaussian weight would
+    # drop the wall clutter by hundreds of dB; through -25 dB sidelobes (two way -50 dB) the SCR is
+    # the filled-beam SCR + 50 dB at most
+    gate = dict(pulse_width_s=2.0 / (SPEED_OF_LIGHT_M_S / 2), range_m=20.0)
+    filled = budget(**gate)
+    ev = run(ANTENNA, antenna_diameter_m=0.25, aperture_efficiency=0.7, detectability_db=16.3, **gate)
+    assert float(ev["scr_db"]) - float(filled["scr_db"]) == pytest.approx(50.0, abs=1e-6)
+    deeper = run(ANTENNA, antenna_diameter_m=0.25, aperture_efficiency=0.7, detectability_db=16.3,
+                 sidelobe_level_db=-35.0, **gate)
+    assert float(deeper["scr_db"]) - float(filled["scr_db"]) == pytest.approx(70.0, abs=1e-6)
 
 
 def test_required_if_gain_21_8_db_book_8_16_12():

@@ -204,7 +204,7 @@ def test_tracking_parameters_belong_to_the_part_with_units_and_domains():
     with_part, without = parameter_table(TRACK), parameter_table(PLAIN)
     new = set(with_part) - set(without)
     assert new == {"track_alpha", "target_acceleration_m_s2", "servo_bandwidth_hz", "monopulse_slope",
-                   "positioner_resonance_hz"}
+                   "positioner_resonance_hz", "platform_angular_acceleration_rad_s2"}
     for name in new:
         prm = with_part[name]
         assert prm.part == "tracking" and prm.doc

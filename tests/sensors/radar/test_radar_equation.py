@@ -207,20 +207,41 @@ def test_dust_clutter_scr_book_eq_8_45():
 
 
 def test_sea_clutter_pulse_limited_closed_form():
-    # Pulse-limited cell (beam-limited area 14 dB larger, so the smooth minimum is within
-    # 1e-3 dB): σ_c = γ sin ψ · R θ_az (c τ/2) / cos ψ, γ from Barton's fit, sea state 3 =
-    # 15 kn (book Table 12.2) -> Beaufort (v/0.836)^(2/3).
-    r, h, az, el, tau, lam = 10e3, 20.0, 0.02, 0.05, 0.2e-6, 0.03
-    psi = math.asin(h / r)
+    # Pulse-limited cell (beam-limited area 18 dB larger, so the smooth minimum is within
+    # 1e-3 dB): σ_c = σ° R θ_az (c τ/2) / cos ψ, ψ over the 4/3 earth from the law of cosines
+    # (sin ψ = (2 k a h + h² − R²)/(2 k a R), 2.86° here). Constant γ: σ° = γ sin ψ with Barton's
+    # γ, sea state 3 = 15 kn (book Table 12.2) -> Beaufort (v/0.836)^(2/3); NRL: the published
+    # formula (Gregers-Hansen & Mital 2012) with its horizontal coefficients.
+    r, h, az, el, tau, lam = 2e3, 100.0, 0.02, 0.05, 0.2e-6, 0.03
+    ka = 4 / 3 * 6371e3
+    psi = math.asin((2 * ka * h + h * h - r * r) / (2 * ka * r))
+    assert math.degrees(psi) == pytest.approx(math.degrees(math.asin(h / r)) - math.degrees(r / (2 * ka)), abs=1e-4)
     kb = (15 * 1852 / 3600 / 0.836) ** (2 / 3)
     gamma = 10 ** ((6 * kb - 10 * math.log10(lam) - 64) / 10)
     a_pulse = r * az * SPEED_OF_LIGHT_M_S * tau / 2 / math.cos(psi)
     a_beam = r * r * az * el / math.sin(psi)
     assert 10 * math.log10(a_beam / a_pulse) > 10.0
     want = gamma * math.sin(psi) * a_pulse
-    got = float(eq.sea_clutter_rcs_m2(r, h, az, el, tau, lam, 3.0))
+    got = float(eq.sea_clutter_rcs_m2(r, h, az, el, tau, lam, 3.0, "constant_gamma"))
     assert abs(10 * math.log10(got / want)) < 1e-3
-    assert abs(float(eq.sea_clutter_scr_db(5.0, r, h, az, el, tau, lam, 3.0)) - 10 * math.log10(5.0 / got)) < 1e-10
+    assert abs(float(eq.sea_clutter_scr_db(5.0, r, h, az, el, tau, lam, 3.0, "constant_gamma"))
+               - 10 * math.log10(5.0 / got)) < 1e-10
+    f_ghz, d = SPEED_OF_LIGHT_M_S / lam / 1e9, math.degrees(psi)
+    nrl_db = (-73.0 + 20.781 * math.log10(math.sin(psi)) + (27.5 + 7.351 * d) * math.log10(f_ghz) / (1 + 0.95 * d)
+              + 25.65 * 4.0 ** (1 / (2 + 0.085 * d + 0.033 * 3.0)) + 0.0054 * d * d)
+    got_nrl = float(eq.sea_clutter_rcs_m2(r, h, az, el, tau, lam, 3.0))
+    assert abs(10 * math.log10(got_nrl / (10 ** (nrl_db / 10) * a_pulse))) < 1e-3
+
+
+def test_sea_clutter_models_enforce_their_domains():
+    # constant γ only in its plateau region (1°-60°): an 8 m mast at 5 km sees 0.075°
+    with pytest.raises(DomainError, match="constant-gamma"):
+        eq.sea_clutter_rcs_m2(5e3, 8.0, 0.02, 0.05, 0.2e-6, 0.03, 3.0, "constant_gamma")
+    assert float(eq.sea_clutter_rcs_m2(5e3, 8.0, 0.02, 0.05, 0.2e-6, 0.03, 3.0)) > 0.0  # NRL continued below 0.1°
+    with pytest.raises(DomainError, match="NRL"):
+        eq.sea_clutter_rcs_m2(5e3, 8.0, 0.02, 0.05, 0.2e-6, 3e8 / 94e9, 3.0)  # 94 GHz: above 35 GHz
+    with pytest.raises(DomainError, match="NRL"):
+        eq.sea_clutter_rcs_m2(120.0, 110.0, 0.02, 0.05, 0.2e-6, 0.03, 3.0)  # grazing 66° > 60°
 
 
 def test_wall_clutter_book_8_16_6():

@@ -1,0 +1,155 @@
+"""Values each key accepts alone but the chain rejects together: checked once, at load.
+
+Every key of a spec is checked against its own domain as it is read; some domains are joint
+(the radiometer needs pd > pfa) and some values inside every domain still leave the chain
+without a finite answer (a target radius of 1e-308 m gives an SNR of -inf, and a gradient
+solver never moves from there). :func:`check_evaluable` evaluates each case's chain at the
+spec's initial design and at the corners of the variables' box, for every catalog option
+combination, in one vectorised call per case, and raises one :class:`SpecError` for the first
+point where a requirement or objective output is not finite, naming the keys that set the
+values involved and the output. The point is then re-evaluated eagerly so that a joint-domain
+check of the chain (a :class:`DomainError`) names its arguments.
+"""
+
+from __future__ import annotations
+
+import functools
+import itertools
+import re
+from typing import Dict, List, Tuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from diffsense.design.spec.common import clean_message
+from diffsense.design.spec.types import Spec
+from diffsense.errors import DomainError, SpecError
+from diffsense.scene import chain_for, evaluate, number_text
+
+#: with more variables than this only the initial design and one-at-a-time extremes are checked
+MAX_CORNER_VARIABLES = 6
+#: catalog option combinations checked (the first ones, in catalog order)
+MAX_COMBINATIONS = 64
+
+Point = Tuple[str, Dict[str, float]]  # (where, design parameter -> value)
+
+
+def _design_points(spec: Spec) -> List[Point]:
+    """The initial design and the box corners, for every catalog combination (capped)."""
+    names = list(spec.variables)
+    initial = {n: v.initial for n, v in spec.variables.items()}
+    if len(names) <= MAX_CORNER_VARIABLES:
+        corners = [dict(zip(names, ends)) for ends in itertools.product(("lower", "upper"), repeat=len(names))]
+    else:
+        corners = [{n: end} for n in names for end in ("lower", "upper")]
+    choices = list(spec.choices.values())
+    combos = itertools.islice(itertools.product(*[range(len(c.settings)) for c in choices]), MAX_COMBINATIONS)
+    points: List[Point] = []
+    for combo in combos:
+        setting: Dict[str, float] = {}
+        for c, i in zip(choices, combo):
+            setting.update(c.settings[i])
+        chosen = "".join(f", {_choice_key(spec, c)} = {c.option_names[i]!r}" for c, i in zip(choices, combo))
+        points.append((f"the initial design{chosen}", {**initial, **setting}))
+        for corner in corners:
+            if not corner:
+                continue
+            values = dict(initial)
+            values.update({n: getattr(spec.variables[n], end) for n, end in corner.items()})
+            where = ", ".join(f"variables.{n} = {end} ({number_text(values[n])} {spec.variables[n].unit})"
+                              for n, end in corner.items())
+            points.append((f"the corner {where}{chosen}", {**values, **setting}))
+    return points
+
+
+def _choice_key(spec: Spec, choice) -> str:
+    """The spec key of a catalog: ``variables.<p>`` for a one-parameter catalog variable."""
+    single = len(choice.settings[0]) == 1 and choice.name in choice.settings[0]
+    return f"variables.{choice.name}" if single and choice.name not in spec.variables else f"choices.{choice.name}"
+
+
+def _key_of(spec: Spec, case: str, name: str) -> str:
+    """The spec key that sets parameter ``name`` in ``case`` (or where its default applies)."""
+    if name in spec.variables:
+        return f"variables.{name}"
+    for c in spec.choices.values():
+        if name in c.settings[0]:
+            return _choice_key(spec, c)
+    if name in spec.fixed[case]:
+        return "fixed." + name if len(spec.scenes) == 1 else f"fixed.{name} (or cases.{case}.{name})"
+    return f"{name} (its default)"
+
+
+def _case_outputs(spec: Spec, case: str) -> Dict[str, str]:
+    """The outputs of ``case`` the spec uses -> the key that uses each."""
+    used: Dict[str, str] = {}
+    for i, r in enumerate(spec.requirements):
+        if r.case == case:
+            used.setdefault(r.output, f"requirements[{i}].output")
+    first = next(iter(spec.scenes))
+    for name, _ in spec.objective.terms:
+        c, _, base = name.rpartition(".")
+        if (c or first) == case and base in spec.outputs[case]:
+            used.setdefault(base, "objective")
+    return used
+
+
+def _case_parameters(spec: Spec, case: str, points: List[Point]) -> Dict[str, np.ndarray]:
+    """Every parameter of ``case`` at every point (defaults filled), one array per name."""
+    table = spec.parameters[case]
+    columns = {}
+    for name, prm in table.items():
+        column = [values.get(name, spec.fixed[case].get(name, prm.default)) for _, values in points]
+        columns[name] = np.asarray(column, dtype=float)
+    return columns
+
+
+def _outputs(scene, wanted, params):
+    ev = chain_for(scene).compute(scene, params, wanted=wanted)
+    return {name: ev.values[name] for name in wanted}
+
+
+def check_evaluable(spec: Spec) -> None:
+    """Raise :class:`SpecError` unless every output the spec uses is finite at the initial design
+    and at the corners of the box of every catalog combination (see the module text)."""
+    points = _design_points(spec)
+    for case, scene in spec.scenes.items():
+        used = _case_outputs(spec, case)
+        if not used:
+            continue
+        columns = _case_parameters(spec, case, points)
+        batch = {k: jnp.asarray(v) for k, v in columns.items()}
+        values_of = jax.jit(jax.vmap(functools.partial(_outputs, scene, frozenset(used))))(batch)
+        for out, key in used.items():
+            values = np.asarray(values_of[out], dtype=float)
+            bad = np.flatnonzero(~np.isfinite(values))
+            if bad.size:
+                j = int(bad[0])
+                where, _ = points[j]
+                params = {k: float(v[j]) for k, v in columns.items()}
+                _diagnose(spec, case, scene, params, where, out, key, float(values[j]))
+
+
+def _diagnose(spec: Spec, case: str, scene, params: Dict[str, float], where: str, out: str, key: str,
+              value: float) -> None:
+    """Raise the error for a point where output ``out`` is ``value`` (not finite)."""
+    at = f"at {where}" + (f" in case '{case}'" if len(spec.scenes) > 1 else "")
+    try:
+        evaluate(scene, params)
+    except DomainError as exc:
+        text = clean_message(exc)
+        names = [n for n in dict.fromkeys(re.findall(r"[a-z][a-z0-9_]*", text.split(";")[0])) if n in params]
+        keys = [_key_of(spec, case, n) for n in names]
+        shown = ", ".join(f"{_key_of(spec, case, n)} = {number_text(params[n])}" for n in names)
+        raise SpecError(spec.path, keys[0].split(" ")[0] if keys else key,
+                        f"values accepted one by one are rejected together {at}: {text}"
+                        + (f" (set by {shown})" if shown else "")) from None
+    extreme = [n for n, v in params.items() if v != 0 and not 1e-150 < abs(v) < 1e150]
+    named = [_key_of(spec, case, n) for n in extreme]
+    shown = ", ".join(f"{k} = {number_text(params[n])}" for k, n in zip(named, extreme))
+    raise SpecError(spec.path, named[0].split(" ")[0] if named else key,
+                    f"output '{out}' is {number_text(value)} {at}: the chain has no finite answer there"
+                    + (f"; the extreme values {shown} are the likely cause" if shown else "")
+                    + "; a solver cannot start or move from such a point")
+

@@ -1,0 +1,272 @@
+"""The state of one live exploration and everything computed from it, without any display.
+
+:class:`ExplorerSession` holds a spec, its :class:`~diffsense.design.model.DesignModel`, the
+report's input vector (:func:`diffsense.report.inputs.design_inputs`) and the compiled
+:class:`~diffsense.explore.program.ExplorerProgram`; the current point is that vector plus the
+current catalog combination. Every change (a slider, a catalog option, a typed value) updates
+the vector, and :meth:`ExplorerSession.snapshot` evaluates it: link budgets, outputs,
+requirement rows with their stoplight status, objective, range sweeps and elasticities. The page
+(:mod:`diffsense.explore.page`) only draws snapshots.
+
+Typed values are validated by reading the spec with the value written in
+(:func:`diffsense.explore.spec_file.checked_spec`), so a bad value raises the
+:class:`~diffsense.errors.SpecError` the command line would print for the same spec.
+"""
+
+from __future__ import annotations
+
+import copy
+import time
+from pathlib import Path
+from typing import Dict, List, Optional, Tuple
+
+import numpy as np
+
+from diffsense.design.model import DesignModel
+from diffsense.design.spec import Spec
+from diffsense.errors import SpecError
+from diffsense.explore import spec_file
+from diffsense.explore.program import ExplorerProgram, range_grid
+from diffsense.report.inputs import design_inputs, input_vector
+from diffsense.report.jacobian import elasticity_matrix
+from diffsense.report.sweeps import budget_rows
+
+#: a met requirement is *active* when its slack is at most this, in the model's scaled units
+#: (dB, degrees and plain numbers absolute; other units relative to the limit)
+ACTIVE_SLACK = 1e-3
+#: the output shown as each case's headline, in order of preference
+HEADLINE_OUTPUTS = ("snr_db", "sinr_db", "signal_excess_db", "snr_margin_db")
+
+
+def requirement_status(met: bool, scaled_slack: float) -> str:
+    """Stoplight of one requirement: "unmet", "active" (met, slack ≤ :data:`ACTIVE_SLACK`) or "met"."""
+    if not met:
+        return "unmet"
+    return "active" if scaled_slack <= ACTIVE_SLACK else "met"
+
+
+def _source(spec_or_path) -> Tuple[Path, str]:
+    if isinstance(spec_or_path, Spec):
+        path = Path(spec_or_path.path)
+    else:
+        path = Path(spec_or_path)
+    try:
+        return path, path.read_text()
+    except OSError as exc:
+        raise SpecError(path, "", f"cannot read the file: {exc.strerror}") from None
+
+
+class ExplorerSession:
+    """One exploration of the spec at ``spec_or_path`` (a TOML path or a loaded
+    :class:`~diffsense.design.spec.Spec` read from a file); see the module docstring."""
+
+    def __init__(self, spec_or_path):
+        self.path, text = _source(spec_or_path)
+        self.document = spec_file.read_document(text)
+        self.spec = spec_file.checked_spec(self.document, self.path)
+        self.model = DesignModel(self.spec)
+        self.inputs = design_inputs(self.model, self.model.initial, 0)
+        self.program = ExplorerProgram(self.model, self.inputs)
+        self._index = {inp.name: k for k, inp in enumerate(self.inputs)}
+        self.variable_names: List[str] = list(self.model.variable_names)
+        self.catalogs: Dict[str, List[str]] = {c: list(self.spec.choices[c].option_names)
+                                               for c in self.model.choice_names}
+        self.fixed_names: List[str] = [i.name for i in self.inputs if i.kind == "fixed"]
+        weights = [w for name, w in self.spec.objective.terms if name == "cost"]
+        self._cost_weight = float(sum(weights))
+        self.last_eval_ms: Optional[float] = None
+        self.reset()
+
+    def fork(self) -> "ExplorerSession":
+        """A session on the same spec and compiled program, at the spec's initial point."""
+        other = copy.copy(self)
+        other.reset()
+        return other
+
+    # --- the current point ----------------------------------------------------------------
+    def reset(self) -> None:
+        """Back to the spec: initial design, first option of every catalog, fixed values as written."""
+        self.v = input_vector(self.inputs).copy()
+        self.options: Dict[str, int] = {c: 0 for c in self.catalogs}
+        self.typed: Dict[str, Tuple[str, str]] = {}  # fixed input name -> (parameter, text)
+        self._set_combination()
+
+    def input(self, name: str):
+        """The :class:`~diffsense.report.inputs.Input` called ``name``."""
+        return self.inputs[self._index[name]]
+
+    def value(self, name: str) -> float:
+        """Current value of input ``name`` (its unit)."""
+        return float(self.v[self._index[name]])
+
+    @property
+    def x(self) -> np.ndarray:
+        """The design variables (model order, their units)."""
+        return np.array([self.value(n) for n in self.variable_names])
+
+    @property
+    def combo_index(self) -> int:
+        return self.model.combo_index({c: self.catalogs[c][k] for c, k in self.options.items()})
+
+    def set_variable(self, name: str, value: float) -> float:
+        """Move design variable ``name`` to ``value`` (clipped to its bounds, integers rounded);
+        returns the value set."""
+        var = self.spec.variables[name]
+        value = float(np.clip(value, var.lower, var.upper))
+        if var.integer:
+            value = float(np.clip(round(value), np.ceil(var.lower), np.floor(var.upper)))
+        self.v[self._index[name]] = value
+        return value
+
+    def set_option(self, catalog: str, option: str) -> None:
+        """Pick ``option`` (its name) of ``catalog``."""
+        names = self.catalogs[catalog]
+        if option not in names:
+            raise SpecError(self.path, f"choices.{catalog}", f"no option {option!r}; options: {names}")
+        self.options[catalog] = names.index(option)
+        self._set_combination()
+
+    def _set_combination(self) -> None:
+        row = self.model.combo_table[self.combo_index]
+        for j, param in enumerate(self.model.combo_params):
+            self.v[self._index[param]] = row[j]
+
+    def type_variable(self, name: str, text: str) -> float:
+        """Set design variable ``name`` from typed text ("250 mm"); raise :class:`SpecError`
+        (the command line's message) when the value is not a valid initial value."""
+        doc = spec_file.copy_document(self.document)
+        for fixed, (param, typed) in self.typed.items():
+            spec_file.set_fixed(doc, fixed, param, typed)
+        doc["variables"][name]["initial"] = spec_file._toml_value(text)
+        spec = spec_file.checked_spec(doc, self.path)
+        return self.set_variable(name, spec.variables[name].initial)
+
+    def type_fixed(self, name: str, text: str) -> float:
+        """Set the fixed input ``name`` from typed text; raise :class:`SpecError` (the command
+        line's message) when the spec with that value written in is invalid."""
+        inp = self.input(name)
+        typed = dict(self.typed)
+        typed[name] = (inp.param, text)
+        doc = spec_file.copy_document(self.document)
+        for fixed, (param, value) in typed.items():
+            spec_file.set_fixed(doc, fixed, param, value)
+        spec = spec_file.checked_spec(doc, self.path)
+        value = float(spec.fixed[inp.cases[0]][inp.param])
+        self.typed = typed
+        self.v[self._index[name]] = value
+        return value
+
+    # --- evaluation -----------------------------------------------------------------------
+    def grids(self) -> list:
+        """The range grid of every swept range input (m), around its current value."""
+        return [range_grid(float(self.v[k]), self.inputs[k].lo, self.inputs[k].hi)
+                for k in self.program.sweep_inputs]
+
+    def evaluate(self) -> dict:
+        """The compiled program at the current point (timed: :attr:`last_eval_ms`)."""
+        combo = self.combo_index
+        shift = self._cost_weight * (self.model.combo_table[combo, -1] - self.model.combo_table[0, -1])
+        t0 = time.perf_counter()
+        out = self.program(self.v, shift, self.grids())
+        self.last_eval_ms = 1e3 * (time.perf_counter() - t0)
+        return out
+
+    def snapshot(self) -> dict:
+        """Everything the page shows at the current point (plain Python and NumPy values)."""
+        out = self.evaluate()
+        rows = self.model.requirement_rows(out["requirements"])
+        for row, scale in zip(rows, self.model.scales):
+            row["status"] = requirement_status(row["met"], row["slack"] / scale)
+        cases = {}
+        for case, ev in out["evaluations"].items():
+            outputs = {k: float(np.asarray(v)) for k, v in ev.values.items() if np.ndim(v) == 0}
+            headline = next((n for n in HEADLINE_OUTPUTS if n in outputs), None)
+            cases[case] = {"budget": budget_rows(ev), "outputs": outputs, "headline": headline}
+        return {"cases": cases, "requirements": rows, "objective": float(out["objective"]),
+                "sweeps": self._sweeps(out), "elasticity": self._elasticity(out, rows),
+                "eval_ms": self.last_eval_ms}
+
+    def _sweeps(self, out) -> dict:
+        grids = dict(zip(self.program.sweep_inputs, self.grids()))
+        sweeps = {}
+        for case, values in out["sweeps"].items():
+            k = self.program.sweep_cases[case]
+            data = {"range_m": grids[k], "design_range_m": float(self.v[k]), "outputs": values}
+            margin = self.program.margin_outputs[case]
+            req = next((r for r in self.model.requirements if r.case == case and r.output == margin), None)
+            if req is not None and "snr_db" in values:
+                data["threshold_db"] = values["snr_db"] - values[margin] + req.limit
+                data["margin_requirement"] = req.name
+            pd = next((k for k, i in enumerate(self.inputs) if i.param == "pd" and case in i.cases), None)
+            data["required_pd"] = float(self.v[pd]) if pd is not None else None
+            sweeps[case] = data
+        return sweeps
+
+    def output_labels(self) -> List[str]:
+        """Names of the outputs whose elasticities the page offers: each requirement's output
+        (``<case>.<output>`` with several cases), then "objective"."""
+        several = len(self.spec.scenes) > 1
+        return [f"{r.case}.{r.output}" if several else r.output for r in self.model.requirements] + ["objective"]
+
+    def objective_unit(self) -> str:
+        """The objective's unit: its one term's unit, or "" for a weighted sum."""
+        terms = self.spec.objective.terms
+        if len(terms) == 1 and terms[0][0] != "cost":
+            name = terms[0][0]
+            case, base = name.split(".", 1) if "." in name else (next(iter(self.spec.scenes)), name)
+            return self.spec.unit_of(case, base)
+        return ""
+
+    def _elasticity(self, out, rows) -> np.ndarray:
+        """Elasticities (outputs × inputs, :func:`diffsense.report.jacobian.elasticity_matrix`)."""
+        units = [r["unit"] for r in rows] + [self.objective_unit()]
+        values = [r["value"] for r in rows] + [float(out["objective"])]
+        return elasticity_matrix(out["jacobian"], units, values, [i.unit for i in self.inputs], list(self.v))
+
+    # --- the spec with the current point ----------------------------------------------------
+    def document_here(self):
+        """The spec's TOML document with the current point (:mod:`diffsense.explore.spec_file`)."""
+        initial = {n: (self.value(n), self.spec.variables[n].integer) for n in self.variable_names}
+        return spec_file.write_point(self.document, initial=initial, options=self.options, fixed=self.typed)
+
+    def save(self, path) -> Path:
+        """Write the spec with the current point as its initial design; returns the path."""
+        path = Path(path)
+        doc = self.document_here()
+        spec_file.checked_spec(doc, path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(doc.as_string())
+        return path
+
+    def spec_here(self) -> Spec:
+        """The spec with the current point as its initial design (validated)."""
+        return spec_file.checked_spec(self.document_here(), self.path)
+
+    def optimize(self, n_starts: int = 1, seed: int = 0):
+        """Optimise from the current point (it is the first start of every catalog combination;
+        ``n_starts`` − 1 Latin-hypercube starts follow) with the current fixed values, then move
+        the point to the optimum. Returns the :class:`~diffsense.design.optimizer.DesignOptimum`."""
+        from diffsense.design.optimizer import optimize_design
+
+        spec = self.spec_here()
+        model = DesignModel(spec)
+        result = optimize_design(model, n_starts=n_starts, seed=seed)
+        chosen = model.combinations[result.combo_index].options
+        for catalog, option in chosen.items():
+            self.options[catalog] = self.catalogs[catalog].index(option)
+        self._set_combination()
+        for name, value in zip(model.variable_names, result.x):
+            self.set_variable(name, float(value))
+        return result
+
+    def report(self, out_dir) -> dict:
+        """Write the spec with the current point to ``out_dir`` and the static report of that
+        point (:func:`diffsense.build_report`, not optimised) beside it; returns its record."""
+        from diffsense.report import build_report
+
+        out_dir = Path(out_dir)
+        spec_path = self.save(out_dir / f"{self.spec.name}.toml")
+        return build_report(spec_path, out_dir, optimize=False)
+
+
+__all__ = ["ExplorerSession", "requirement_status", "ACTIVE_SLACK", "HEADLINE_OUTPUTS"]

@@ -1,0 +1,173 @@
+"""The write-up of a trade study (:mod:`diffsense.design.trade`): a CSV of the front, its
+figures and a Markdown report of which requirements are active along which stretch.
+
+Figures (matplotlib, Agg, PNG): for two objectives the front with its anchors and knee marked
+(axes in log scale for an objective that stays positive and spans more than a decade); for
+three or more, parallel coordinates of the objectives normalised to the front's ideal–nadir box,
+best at 0 (A. Inselberg, "The plane with parallel coordinates", The Visual Computer 1 (1985) 69), each
+point's line coloured by its first objective, plus the 2-D front of the first two objectives.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+from typing import List
+
+import numpy as np
+
+from diffsense.design.trade import TradeResult
+from diffsense.optimize.continuation import normalized
+
+_DPI = 110
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _axis_label(label: str, unit: str) -> str:
+    return f"{label} ({unit})" if unit not in ("", "1") else label
+
+
+def _log_axis(values) -> bool:
+    v = np.asarray(values, dtype=float)
+    return bool(v.size and np.all(v > 0) and v.max() > 10.0 * v.min())
+
+
+def front_figure(result: TradeResult, path: Path, i: int = 0, j: int = 1) -> Path:
+    """Objective ``j`` against objective ``i`` over the front; anchors and knee marked."""
+    plt = _pyplot()
+    F = np.array([p["F"] for p in result.points])
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    combos = sorted({p["combo_index"] for p in result.points})
+    for c in combos:
+        mine = np.array([p["combo_index"] == c for p in result.points])
+        name = ", ".join(result.model.combinations[c].options.values()) or "front"
+        ax.plot(F[mine, i], F[mine, j], "o-", ms=3.5, lw=1.0, label=name)
+    anchors = [k for k, p in enumerate(result.points) if p["anchor"] >= 0]
+    if anchors:
+        ax.plot(F[anchors, i], F[anchors, j], "s", ms=9, mfc="none", mec="k", label="anchor")
+    if result.knee is not None:
+        ax.plot(F[result.knee, i], F[result.knee, j], "*", ms=14, color="crimson", label="knee")
+    ax.set_xscale("log" if _log_axis(F[:, i]) else "linear")
+    ax.set_yscale("log" if _log_axis(F[:, j]) else "linear")
+    ax.set_xlabel(_axis_label(result.labels[i], result.units[i]))
+    ax.set_ylabel(_axis_label(result.labels[j], result.units[j]))
+    ax.set_title(f"Pareto front: {result.model.spec.title}"[:80], fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def parallel_figure(result: TradeResult, path: Path) -> Path:
+    """Parallel coordinates of every objective, normalised to the front's ideal–nadir box in
+    the minimised sense (0 the best value on the front, 1 the worst, a maximised objective
+    flipped); each axis end is labelled with its value."""
+    plt = _pyplot()
+    F = np.array([p["F"] for p in result.points])
+    signs = np.array([o.sign for o in result.objectives])
+    f = normalized(F * signs)  # minimised sense: 0 the best value on the front, 1 the worst
+    best = np.where(signs > 0, F.min(axis=0), F.max(axis=0))
+    worst = np.where(signs > 0, F.max(axis=0), F.min(axis=0))
+    fig, ax = plt.subplots(figsize=(7.0, 4.4))
+    colours = plt.cm.viridis(f[:, 0])
+    for row, col in zip(f, colours):
+        ax.plot(range(F.shape[1]), row, color=col, lw=1.0, alpha=0.8)
+    if result.knee is not None:
+        ax.plot(range(F.shape[1]), f[result.knee], color="crimson", lw=2.5, label="knee")
+        ax.legend(fontsize=7)
+    ax.set_xticks(range(F.shape[1]))
+    ax.set_xticklabels([_axis_label(lab, u) for lab, u in zip(result.labels, result.units)], fontsize=7,
+                       rotation=10)
+    for k in range(F.shape[1]):
+        ax.annotate(f"{best[k]:.3g}", (k, 0.0), xytext=(3, -12), textcoords="offset points", fontsize=7)
+        ax.annotate(f"{worst[k]:.3g}", (k, 1.0), xytext=(3, 4), textcoords="offset points", fontsize=7)
+    ax.set_ylabel("normalised objective (0 best on the front, 1 worst)")
+    ax.set_ylim(-0.08, 1.08)
+    ax.set_title(f"Trade of {F.shape[1]} objectives: {result.model.spec.title}"[:80], fontsize=9)
+    ax.grid(True, axis="x", alpha=0.4)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def _save(fig, path: Path) -> Path:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=_DPI)
+    _pyplot().close(fig)
+    return path
+
+
+def write_csv(result: TradeResult, path: Path) -> Path:
+    """One row per front point: objectives, design values, catalog options, KKT residual,
+    active requirements."""
+    model = result.model
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    names = list(model.variable_names) + list(model.combo_params)
+    with path.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(result.labels + names + list(model.choice_names) + ["kkt_residual", "anchor_of", "knee",
+                                                                        "active_requirements"])
+        for k, p in enumerate(result.points):
+            combo = model.combinations[p["combo_index"]]
+            values = list(p["x"]) + [model.combo_table[p["combo_index"]][j] for j in range(len(model.combo_params))]
+            w.writerow([f"{v:.12g}" for v in p["F"]] + [f"{v:.12g}" for v in values]
+                       + [combo.options[c] for c in model.choice_names]
+                       + [f"{p['kkt_residual']:.3g}", result.labels[p["anchor"]] if p["anchor"] >= 0 else "",
+                          "yes" if k == result.knee else "", "; ".join(p["active"])])
+    return path
+
+
+def markdown(result: TradeResult, figures: List[Path], out: Path) -> str:
+    """The trade report: objectives, counts, anchors and knee, the stretches of the front."""
+    lines = [f"# Trade study: {result.model.spec.title}", ""]
+    lines += ["Objectives: " + "; ".join(f"{o.text}" for o in result.objectives), ""]
+    d = result.dropped
+    lines += [f"{len(result.points)} points on the front ({result.solves} solves, {result.trips} solver trips, "
+              f"{result.seconds:.1f} s); dropped: {d.get('unconverged', 0)} unconverged, {d.get('unmet', 0)} "
+              f"missing a requirement when re-evaluated, {d.get('dominated', 0)} dominated.", ""]
+    lines += ["## Anchors and knee", "", "| point | " + " | ".join(result.labels) + " |",
+              "|---|" + "---|" * len(result.labels)]
+    for k, p in enumerate(result.points):
+        if p["anchor"] >= 0 or k == result.knee:
+            what = f"best {result.labels[p['anchor']]}" if p["anchor"] >= 0 else "knee"
+            if k == result.knee and p["anchor"] >= 0:
+                what += " (knee)"
+            lines.append(f"| {what} | " + " | ".join(f"{v:.6g}" for v in p["F"]) + " |")
+    lines += ["", "## Active requirements along the front", "",
+              "Points sorted by the first objective; a requirement is active where it is met with "
+              "zero slack (it holds the front there).", "",
+              "| points | from | to | active requirements | variables on a bound |", "|---|---|---|---|---|"]
+    for s in result.stretches:
+        fr = ", ".join(f"{k} {v:.4g}" for k, v in s["from"].items())
+        to = ", ".join(f"{k} {v:.4g}" for k, v in s["to"].items())
+        lines.append(f"| {s['first'] + 1}–{s['last'] + 1} | {fr} | {to} | {'; '.join(s['active']) or 'none'} | "
+                     f"{'; '.join(s['on_bounds']) or 'none'} |")
+    lines += ["", "## Figures", ""] + [f"![{f.stem}]({f.relative_to(out)})" for f in figures]
+    return "\n".join(lines) + "\n"
+
+
+def write_trade_report(result: TradeResult, out: Path) -> dict:
+    """front.csv, figures/*.png and trade.md in ``out``; returns the paths written."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    figures = []
+    if len(result.points) >= 1:
+        figures.append(front_figure(result, out / "figures" / "front.png"))
+        if len(result.labels) >= 3:
+            figures.append(parallel_figure(result, out / "figures" / "parallel_coordinates.png"))
+    csv_path = write_csv(result, out / "front.csv")
+    md = out / "trade.md"
+    md.write_text(markdown(result, figures, out))
+    return {"csv": csv_path, "markdown": md, "figures": figures}
+
+
+__all__ = ["front_figure", "parallel_figure", "write_csv", "markdown", "write_trade_report"]

@@ -1,0 +1,96 @@
+"""Every shipped design evaluated in float32 at random points of its variable box: no NaN.
+
+The detection functions (thresholds, the Pd series, the required-SNR root, the matched-filter
+loss) must give finite values and gradients in float32 wherever the design's variables may go.
+Each design runs in a child process started with ``DIFFSENSE_X64=0`` (the rest of the suite
+keeps float64): 2000 points drawn with a fixed seed, uniform in each variable's box (in its
+logarithm for log-scaled variables, rounded for integer ones), for every catalog combination;
+the child evaluates the normalised requirement residuals and the objective with their
+gradients with respect to the design variables, and every output of every case.
+"""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from helpers.paths import DESIGNS, REPO
+
+POINTS = 2000
+SEED = 20240611
+DESIGN_FILES = sorted(DESIGNS.glob("*.toml"))
+# Known NaN outside the detection layer (float32 only): the blackbody band radiance forms its
+# prefactor as 2 k^4 T^4 / (h^3 c^2) with k^4 ~ 3.6e-92 and h^3 ~ 2.9e-100, both below float32's
+# range, so 0/0 (diffsense/physics/radiance.py); every IRST output is NaN from there on.
+_NON_DETECTION_NAN = {}  # designs with a known non-finite float32 result outside detection (none)
+
+
+def _sample(model, rng, count):
+    lo, hi = model.lower, model.upper
+    u = rng.random((count, lo.size))
+    logs = model.log_scale & (lo > 0)
+    x = np.where(logs, np.exp(np.log(np.where(logs, lo, 1.0)) + u * np.log(np.where(logs, hi / lo, 1.0))),
+                 lo + u * (hi - lo))
+    return np.where(model.integer, np.round(x), x)
+
+
+def _child(path):
+    """Evaluate one design in float32; print a JSON report of the first non-finite entries."""
+    import jax
+    import jax.numpy as jnp
+
+    from diffsense import DesignModel, load_spec
+
+    model = DesignModel(load_spec(path))
+    rng = np.random.default_rng(SEED)
+    x_all = jnp.asarray(_sample(model, rng, POINTS), dtype=jnp.float32)
+    limits = jnp.asarray(model.limits, dtype=jnp.float32)
+    bad = []
+
+    def outputs(x, combo):
+        return {case: ev.values for case, ev in model.evaluate(x, combo).items()}
+
+    residuals = jax.jit(jax.vmap(lambda x, c: model.residuals(x, c, limits), in_axes=(0, None)))
+    jac = jax.jit(jax.vmap(jax.jacfwd(lambda x, c: model.residuals(x, c, limits)), in_axes=(0, None)))
+    objective = jax.jit(jax.vmap(model.raw_objective, in_axes=(0, None)))
+    grad = jax.jit(jax.vmap(jax.grad(model.raw_objective), in_axes=(0, None)))
+    values = jax.jit(jax.vmap(outputs, in_axes=(0, None)))
+    for row in model.combo_table:
+        combo = jnp.asarray(row, dtype=jnp.float32)
+        checks = {"residuals": residuals(x_all, combo), "residual_gradients": jac(x_all, combo)}
+        if model._objective_terms:
+            checks["objective"] = objective(x_all, combo)
+            checks["objective_gradient"] = grad(x_all, combo)
+        for case, vals in values(x_all, combo).items():
+            for name, v in vals.items():
+                checks[f"{case}.{name}"] = v
+        for name, arr in checks.items():
+            arr = np.asarray(arr, dtype=float).reshape(POINTS, -1)
+            rows = np.nonzero(~np.all(np.isfinite(arr), axis=1))[0]
+            if rows.size:
+                i = int(rows[0])
+                bad.append({"check": name, "count": int(rows.size), "combo": [float(c) for c in row],
+                            "point": dict(zip(model.variable_names, map(float, x_all[i])))})
+    print(json.dumps(bad))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", [
+    pytest.param(p, marks=pytest.mark.xfail(reason=_NON_DETECTION_NAN[p.stem], strict=False))
+    if p.stem in _NON_DETECTION_NAN else p for p in DESIGN_FILES], ids=[p.stem for p in DESIGN_FILES])
+def test_design_float32_values_and_gradients_are_finite(path):
+    env = dict(os.environ, DIFFSENSE_X64="0", JAX_ENABLE_X64="0")
+    env["PYTHONPATH"] = os.pathsep.join(str(p) for p in (REPO, REPO / "tests", env.get("PYTHONPATH", "")) if p)
+    proc = subprocess.run([sys.executable, str(Path(__file__).resolve()), str(path)], env=env,
+                          capture_output=True, text=True, timeout=1800)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    bad = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert not bad, json.dumps(bad, indent=1)
+
+
+if __name__ == "__main__":
+    _child(sys.argv[1])

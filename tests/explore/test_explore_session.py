@@ -1,0 +1,91 @@
+"""The explorer's session without a browser: the same numbers as the design record, a saved spec
+read back unchanged, the command line's messages for bad typed values, and the stoplight."""
+
+from pathlib import Path
+
+import pytest
+
+from diffsense.design.record import design_record
+from diffsense.design.spec import load_spec
+from diffsense.errors import SpecError
+from diffsense.explore.session import ACTIVE_SLACK, ExplorerSession, requirement_status
+from helpers.paths import DESIGNS
+
+SPECS = Path(__file__).parent / "specs"
+
+
+@pytest.fixture(scope="module")
+def session():
+    return ExplorerSession(DESIGNS / "ore_pass.toml")
+
+
+def test_status_is_a_stoplight():
+    assert requirement_status(False, -1.0) == "unmet"
+    assert requirement_status(True, ACTIVE_SLACK / 2) == "active"
+    assert requirement_status(True, 1.0) == "met"
+
+
+def test_saved_point_reads_back_and_evaluates_as_shown(session, tmp_path):
+    s = session.fork()
+    s.set_option("freq_hz", "94 GHz")
+    s.set_variable("antenna_diameter_m", 0.3)
+    s.set_variable("n_pulses", 20.4)
+    snap = s.snapshot()
+    spec = load_spec(s.save(tmp_path / "here.toml"))
+    assert spec.variables["antenna_diameter_m"].initial == 0.3 and spec.variables["n_pulses"].initial == 20
+    assert spec.choices["freq_hz"].option_names[0] == "94 GHz"
+    again = ExplorerSession(tmp_path / "here.toml")
+    record = design_record(again.model, again.model.initial, 0)
+    assert snap["cases"]["main"]["outputs"]["snr_db"] == pytest.approx(
+        record["cases"]["main"]["outputs"]["snr_db"]["value"], rel=1e-9)
+    assert [r["met"] for r in snap["requirements"]] == [r["met"] for r in record["requirements"]]
+    assert snap["objective"] == pytest.approx(record["objective"]["value"], rel=1e-12)
+
+
+def test_bad_typed_values_give_the_spec_message(session):
+    s = session.fork()
+    with pytest.raises(SpecError, match="key 'fixed.range_m'"):
+        s.type_fixed("range_m", "-3 m")
+    with pytest.raises(SpecError, match="key 'variables.antenna_diameter_m.initial'"):
+        s.type_variable("antenna_diameter_m", "3 m")
+    assert s.type_fixed("range_m", "250 m") == 250.0
+    assert s.type_variable("antenna_diameter_m", "300 mm") == pytest.approx(0.3)
+
+
+@pytest.fixture(scope="module")
+def sonar():
+    """One variable (electrical power): compiles in seconds."""
+    return ExplorerSession(SPECS / "sonar_power.toml")
+
+
+def test_optimize_from_here_moves_the_point_to_the_closed_form_optimum(sonar):
+    # SL grows as 10 log10 P and nothing else depends on P: P* = P0 10^(-m0/10) (spec description)
+    s = sonar.fork()
+    p0 = s.set_variable("electrical_power_w", 400.0)
+    start = s.snapshot()
+    m0 = start["cases"]["main"]["outputs"]["snr_margin_db"]
+    assert start["requirements"][0]["status"] == "unmet"
+    result = s.optimize()
+    assert result.feasible
+    p_star = p0 * 10 ** (-m0 / 10)
+    assert s.value("electrical_power_w") == pytest.approx(p_star, rel=1e-5)
+    here = s.snapshot()
+    assert here["objective"] == pytest.approx(p_star, rel=1e-5)
+    assert here["cases"]["main"]["outputs"]["snr_margin_db"] == pytest.approx(0.0, abs=1e-4)
+    assert here["requirements"][0]["status"] == "active"
+
+
+def test_report_of_the_current_point(sonar, tmp_path):
+    s = sonar.fork()
+    s.set_variable("electrical_power_w", 2000.0)
+    snap = s.snapshot()
+    record = s.report(tmp_path / "report")
+    written = load_spec(tmp_path / "report" / "sonar_power.toml")
+    assert written.variables["electrical_power_w"].initial == 2000.0
+    assert record["mode"] == "initial_design"
+    assert record["design"] and record["objective"]["value"] == pytest.approx(2000.0, rel=1e-12)
+    assert float(record["cases"]["main"]["outputs"]["snr_margin_db"]["value"]) == pytest.approx(
+        snap["cases"]["main"]["outputs"]["snr_margin_db"], rel=1e-12)
+    assert [r["met"] for r in record["requirements"]] == [r["met"] for r in snap["requirements"]]
+    for kind in ("html", "md", "json"):
+        assert Path(record["files"][kind]).parent == tmp_path / "report" and Path(record["files"][kind]).is_file()

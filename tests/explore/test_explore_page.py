@@ -177,7 +177,7 @@ def test_page_matches_the_command_line_and_saves_a_spec_it_reads_back(server, br
               "server_update_median_ms": statistics.median(update_ms)}
     print("explorer latency:", json.dumps(timing))
     # loose bounds (a shared, busy machine); the README's table holds the measured numbers
-    assert first_load_s < 120 and statistics.median(eval_ms) < 100 and statistics.median(page_ms) < 1000
+    assert first_load_s < 300 and statistics.median(eval_ms) < 100 and statistics.median(page_ms) < 1000
 
 
 def _evaluate(cwd, spec) -> str:

@@ -157,7 +157,9 @@ def test_ore_pass_flat_optimum_lands_on_the_book_beamwidth_rule_in_few_iteration
     model = _ore_pass_94ghz_gunn()[0]
     r = _ore_pass_solve(model.initial)
     _assert_book_beam_limited_optimum(r)
-    assert int(r.iterations) <= 6
+    # 7 iterations since the range resolution follows the filtered echo (it couples bandwidth and
+    # pulse width) and the requirements hold over the 10-300 m interval
+    assert int(r.iterations) <= 8
 
 
 def test_ore_pass_from_a_far_start_whose_first_step_is_elastic():

@@ -71,6 +71,9 @@ class IntervalRequirements:
         self.scales = np.asarray(scales, dtype=float)
         self.extra: Dict[int, np.ndarray] = {}  # per requirement: candidate points found by re-checks
         self._dense = {}
+        #: how the worst points are polished (:func:`~diffsense.optimize.semi_infinite.worst_points`):
+        #: "newton" for the optimiser; the live explorer sets "zoom" (values only, quicker to compile)
+        self.polish = "newton"
 
     def value_at(self, j: int, params: dict, q):
         """Requirement j's output with its ``over`` parameters set to ``q`` (d,); ``params``: the
@@ -92,7 +95,8 @@ class IntervalRequirements:
         """``(values (over_worst,), points (over_worst, d))`` of requirement j: its output at the
         worst points found, worst first (derivatives by the envelope theorem)."""
         r = self.spec.requirements[j]
-        vals, pts = worst_points(self._oriented(j), (params,), self.boxes[j], r.over_worst, extra=self.extra.get(j))
+        vals, pts = worst_points(self._oriented(j), (params,), self.boxes[j], r.over_worst, extra=self.extra.get(j),
+                                 polish=self.polish)
         return -self.sign[j] * vals, pts
 
     def worst_values(self, x, combo, params_by_case=None) -> Dict[int, jnp.ndarray]:

@@ -140,7 +140,10 @@ def mixing_bounds(mu, r, tail_l):
         # float64: the composite bound's start value P(K = k_hi) underflows once the mean of K
         # is below about 1e-5 (e.g. SNR < -50 dB at N = 1), and Pd - Pfa would be lost; there
         # the exact Chernoff bound is used (double where: it is evaluated at mu = 1 elsewhere).
-        small = mu < _TIGHT_MU_64
+        # So it is wherever L exceeds its default: the root finder of required_snr raises L up
+        # to ~600, where the composite bound underflowed already at mu ~ 1 (e.g. k_hi = 171 at
+        # mu = 1.02, L = 250: P(K = k_hi) ~ e^-710, and Pd - Pfa summed to 0).
+        small = (mu < _TIGHT_MU_64) | (jnp.asarray(tail_l) > _TAIL_L)
         mu_s = jnp.where(small, mu, 1.0)
         k_tight = tight_upper_bound(mu_s, r, jnp.where(small, k_hi, 1e3), tail_l)
         k_hi = jnp.where(small, k_tight, k_hi)

@@ -30,8 +30,12 @@ __all__ = ["admit", "guard", "within"]
 
 
 def within(x, lo=None, hi=None, lo_open=False, hi_open=False):
-    """Elementwise ``lo <= x <= hi`` (strict where ``*_open``); False for NaN."""
+    """Elementwise ``lo <= x <= hi`` (strict where ``*_open``); False for NaN; subnormal x is 0."""
     x = jnp.asarray(x)
+    if jnp.issubdtype(x.dtype, jnp.floating):
+        # subnormal numbers count as zero, explicitly: XLA flushes them in some fused kernels
+        # and not in others, and the eager check (check_range) treats them as zero too
+        x = jnp.where(jnp.abs(x) < jnp.finfo(x.dtype).tiny, jnp.zeros_like(x), x)
     ok = ~jnp.isnan(x)
     if lo is not None:
         ok = ok & ((x > lo) if lo_open else (x >= lo))

@@ -23,7 +23,12 @@ The weights ``pois(N+j; T)`` are concentrated within a few sqrt(T) of ``j = T - 
 the SNR, so (1) is summed over the window ``T - N - sqrt(2 L T) <= j <= T - N + L/3 +
 sqrt(L^2/9 + 2 L T)`` (Chernoff/Bernstein bounds of the Poisson tails, :mod:`._bounds`), which
 bounds the truncation error by ``2 exp(-L)`` with L = 40 in float64, i.e. 8.5e-18 absolute
-(L = 20 in float32: 4.1e-9). The number of terms grows like sqrt(T), not with the SNR.
+(L = 20 in float32: 4.1e-9). The number of terms grows like sqrt(T), not with the SNR. DOWN
+walks (below) go on under the window to j = 0, because an absolute bound is not enough for
+them: when K's mean is small the terms ``pois(N+j; T) P(K > j)`` peak at the smallest j, and
+Pd - Pfa (down to 1e-300) must keep its relative accuracy. This costs steps only where the
+window starts above 0, i.e. for T - N > sqrt(2 L T) (Pfa below ~1e-35 at N = 1, ~4e-18 at
+N = 1e4).
 
 **Two directions, two small quantities.** When K's mean lies below the window centre T - N
 plus one standard deviation sqrt(T) of the weights (Pd <~ 0.8), the survival ``P(K > j)`` is accumulated downward from the top of K's range
@@ -219,8 +224,13 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials, tail_l=None):
         # of the weights (see the end of this function).
         j_loop = jnp.where(down & ~above, jnp.maximum(j_start, j_hi), j_loop)
         j_mode = jnp.clip(jnp.floor(t - n), j_lo, j_hi)
+    # DOWN walks continue below the window to j = 0: the window holds the weights' mass to
+    # exp(-L) absolutely, but when K's mean is small the terms of Pd - Pfa lie at the smallest j
+    # (w_j P(K > j) peaks at j = 0 when N S T < 2N), so that stopping at the window bottom lost
+    # all of Pd - Pfa once it fell below exp(-L) (Pfa < ~1e-35 at N = 1).
+    j_floor = jnp.where(down & ~above, 0.0, j_lo)
     pmf_init = jnp.where(j_loop == j_start, pmf0, 0.0)
-    j_first = jnp.clip(j_loop, j_lo, j_hi)
+    j_first = jnp.clip(j_loop, j_floor, j_hi)
     pois0 = jnp.exp(log_poisson_pmf(n + j_first, t))
     inv_q = jnp.exp(-log_q)
     q_ = jnp.exp(log_q)
@@ -238,12 +248,12 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials, tail_l=None):
 
     def cond(s):
         j = s["j"]
-        return jnp.any(jnp.where(down, j >= j_lo, j <= j_hi))
+        return jnp.any(jnp.where(down, j >= j_floor, j <= j_hi))
 
     def body(s):
         j = s["j"]
-        live = jnp.where(down, j >= j_lo, j <= j_hi)
-        inside = live & (j >= j_lo) & (j <= j_hi)
+        live = jnp.where(down, j >= j_floor, j <= j_hi)
+        inside = live & (j >= j_floor) & (j <= j_hi)
         pois_j = s["pois"]
         pmf_j = s["pmf"]
         # DOWN keeps P(K > j) in "surv"; UP keeps F(j) = P(K < j) there.
@@ -300,7 +310,7 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials, tail_l=None):
     # Pd = 1 - O(e^-L) whatever n.
     d_n = s["d_n"] + jnp.where(above | up, 0.0, dq_dn) + snr * s["d_mu"]
     if swerling == 4:
-        d_n = d_n + 2.0 * _negbin_shape_partial(t, n, mu, r, log_q, j_lo, j_hi)
+        d_n = d_n + 2.0 * _negbin_shape_partial(t, n, mu, r, log_q, j_hi, down & ~above, j_start)
     return pd, excess, miss, (d_snr, d_t, d_n)
 
 
@@ -318,24 +328,32 @@ def _rescale_at_mode(s, log_pois_mode, above):
     return {k: (v * scale if k in ("acc", "miss", "d_mu", "d_t", "d_n") else v) for k, v in s.items()}
 
 
-def _negbin_shape_partial(t, n, mu, r, log_q, j_lo, j_hi):
+def _negbin_shape_partial(t, n, mu, r, log_q, j_hi, from_top, k_top):
     """d Pd / d r at fixed mean mu for the negative-binomial mixture (Swerling 4).
 
-    With D(m) = sum_{k<m} P(K=k) w(k), w(k) = psi(k+r) - psi(r) + log(1-q), the derivative of
-    the survival at fixed q is dP(K>=m)/dr = -D(m); at fixed mu, q moves too:
-    dP(K>=m)/dr|_mu = -D(m) - P(K=m-1)(m-1+r) q / r. The first pass accumulates D(j_hi+1)
-    upward from k = 0; the second walks the window downward.
+    With D(m) = sum_{k<m} P(K=k) w(k), w(k) = d log P(K=k)/dr = psi(k+r) - psi(r) + log(1-q),
+    the derivative of the survival at fixed q is dP(K>=m)/dr = -D(m); at fixed mu, q moves too:
+    dP(K>=m)/dr|_mu = -D(m) - P(K=m-1)(m-1+r) q / r, and d Pd/dr = sum_j pois(N+j; T) of that
+    at m = j + 1.
+
+    Since sum_k P(K=k) w(k) = d/dr 1 = 0, D(m) is also -sum_{k>=m} P(K=k) w(k). Which sum is
+    accurate depends on where K's mass lies: summed from k = 0 (``from_top`` False: UP walks,
+    where Pd is near 1 and D(m) below K's mass is the small quantity), or from ``k_top`` downward
+    with D(k_top + 1) = 0 (``from_top`` True: DOWN walks, where K's mass is at small k and the
+    sum from 0 forms the tiny D(m) of large m as a difference of O(mu) terms: an absolute error
+    of ~1e-19 that swamped dPd/dN when Pd - Pfa is below ~1e-17). The window walk goes on below
+    the window to j = 0, as in ``_mixture_sum``.
     """
     q = jnp.exp(log_q)
     log_1mq = -jnp.log1p(mu / r)
     psi_r = digamma(r)
 
     def up_cond(s):
-        return jnp.any(s["k"] <= j_hi)
+        return jnp.any((s["k"] <= j_hi) & ~from_top)
 
     def up_body(s):
         k = s["k"]
-        active = k <= j_hi
+        active = (k <= j_hi) & ~from_top
         pmf = jnp.exp(s["log_pmf"])
         w = s["psi"] - psi_r + log_1mq
         return dict(
@@ -349,14 +367,16 @@ def _negbin_shape_partial(t, n, mu, r, log_q, j_lo, j_hi):
     up = jax.lax.while_loop(
         up_cond, up_body, dict(k=zeros, big_d=zeros, log_pmf=r * log_1mq, psi=psi_r)
     )
-    # up["big_d"] = D(j_hi + 1); up["psi"] = psi(j_hi + 1 + r).
+    # from the bottom: up["big_d"] = D(j_hi + 1); from the top: D(k_top + 1) = 0
+    j_top = jnp.where(from_top, jnp.maximum(k_top, j_hi), j_hi)
 
     def down_cond(s):
-        return jnp.any(s["j"] >= j_lo)
+        return jnp.any(s["j"] >= 0.0)
 
     def down_body(s):
         j = s["j"]
-        active = j >= j_lo
+        active = j >= 0.0
+        counted = active & (j <= j_hi)
         pmf_j = jnp.exp(s["log_pmf"])
         dsurv = -s["big_d"] - pmf_j * (j + r) * q / r  # d P(K >= j+1) / dr at fixed mu
         psi_jr = s["psi"] - 1.0 / (j + r)  # psi(j + r)
@@ -364,20 +384,20 @@ def _negbin_shape_partial(t, n, mu, r, log_q, j_lo, j_hi):
         jm = jnp.maximum(j, 1.0)
         return dict(
             j=j - 1.0,
-            acc=s["acc"] + jnp.where(active, s["pois"] * dsurv, 0.0),
+            acc=s["acc"] + jnp.where(counted, s["pois"] * dsurv, 0.0),
             big_d=jnp.where(active, s["big_d"] - pmf_j * w_j, s["big_d"]),
             psi=jnp.where(active, psi_jr, s["psi"]),
             log_pmf=jnp.where(active, s["log_pmf"] + jnp.log(jm) - jnp.log(jm - 1.0 + r) - log_q, s["log_pmf"]),
-            pois=jnp.where(active, s["pois"] * ((n + j) / t), s["pois"]),
+            pois=jnp.where(counted, s["pois"] * ((n + j) / t), s["pois"]),
         )
 
     start = dict(
-        j=j_hi,
+        j=j_top,
         acc=zeros,
-        big_d=up["big_d"],
-        psi=up["psi"],
-        log_pmf=log_negbin_pmf(j_hi, r, q),
-        pois=jnp.exp(log_poisson_pmf(n + j_hi, t)),
+        big_d=jnp.where(from_top, 0.0, up["big_d"]),
+        psi=jnp.where(from_top, digamma(j_top + 1.0 + r), up["psi"]),
+        log_pmf=log_negbin_pmf(j_top, r, q),
+        pois=jnp.exp(log_poisson_pmf(n + jnp.minimum(j_top, j_hi), t)),
     )
     down = jax.lax.while_loop(down_cond, down_body, start)
     return down["acc"]

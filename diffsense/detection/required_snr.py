@@ -9,7 +9,10 @@ carries none of the needed digits. The bracket is [-300, 300] dB, inside which t
 every admissible input (at its ends Pd rounds to Pfa and to 1); no finite value is ever
 substituted for an unreachable root (a root at an end would be returned as NaN). Derivatives
 are implicit, dx = (dPd_target - dPd/dPfa dPfa - dPd/dN dN) / (dPd/dx), never through the
-iterations. Swerling 2 has the closed form 1 + S = T(Pfa, N) / T(Pd, N) because
+iterations. The derivative with respect to N is the derivative of Pd - Pfa, formed from parts
+of Pfa's size that cancel; it is returned only where Pd - Pfa >= 1e-290 and is NaN below (where
+its parts near 1e-308 reach float64's subnormal range, which XLA flushes to zero: at Pfa = 1e-300,
+Pd - Pfa = 1.8e-304, N = 3498 it came out as +8.5e-9 dB/pulse for a true -5.0e-4). Swerling 2 has the closed form 1 + S = T(Pfa, N) / T(Pd, N) because
 Pd = Q(N, T/(1+S)) (the threshold solver keeps T(Pd, N) accurate for Pd near 1).
 
 Approximations (their measured error over the acceptance grid is tabulated in the README):
@@ -39,6 +42,7 @@ from functools import partial
 
 import jax
 import jax.numpy as jnp
+from jax.custom_derivatives import SymbolicZero
 from jax.scipy.special import ndtri
 
 from diffsense.errors import DomainError
@@ -65,6 +69,8 @@ BOOK_SDLA_EXTRA_PULSES = 7
 # at -300 dB Pd rounds to Pfa < pd and at +300 dB the miss probability rounds to 0 < 1 - pd
 # (probability.saturation_db; float32: +-150 dB). A result at an end is returned as NaN.
 _TOL_DB = 1e-11
+#: smallest Pd - Pfa at which the derivative with respect to N is computed (module docstring)
+N_DERIVATIVE_MIN_EXCESS = 1e-290
 _MAX_ITER = 60
 
 
@@ -148,18 +154,30 @@ def _required_snr(pd_t, pfa, n, swerling):
     return _chunked(lambda p, f, k: _solve(p, f, k, swerling), pd_t, pfa, n)
 
 
-@_required_snr.defjvp
 def _required_snr_jvp(swerling, primals, tangents):
     pd_t, pfa, n = primals
-    dpd, dpfa, dn = tangents
+    n_is_constant = isinstance(tangents[2], SymbolicZero)
+    dpd, dpfa, dn = (jnp.zeros_like(p) if isinstance(t, SymbolicZero) else t for p, t in zip(primals, tangents))
     x = _required_snr(pd_t, pfa, n, swerling)
     f = lambda xx, pp, nn: _pd_db(xx, pp, nn, swerling)
     # both directional derivatives of Pd from one linearisation (one copy of the Pd series in
     # the compiled program, its linear map applied twice)
     _, pd_lin = jax.linearize(f, x, pfa, n)
     dpd_dx = pd_lin(jnp.ones_like(x), jnp.zeros_like(pfa), jnp.zeros_like(n))
-    dpd_theta = pd_lin(jnp.zeros_like(x), dpfa, dn)
-    return x, (dpd - dpd_theta) / dpd_dx
+    dpd_pfa = pd_lin(jnp.zeros_like(x), dpfa, jnp.zeros_like(n))
+    dpd_n = pd_lin(jnp.zeros_like(x), jnp.zeros_like(pfa), dn)
+    # dPd/dN at fixed Pfa is Pd - Pfa's derivative, formed from parts of Pfa's size that cancel;
+    # below N_DERIVATIVE_MIN_EXCESS its own size approaches float64's subnormal range, which XLA
+    # flushes to zero, and the result is not even of the right sign: NaN there, never a made-up number
+    # (a primal-only factor keeps the tangent linear; it is skipped when N is not differentiated)
+    dx = (dpd - dpd_pfa) / dpd_dx
+    if n_is_constant:
+        return x, dx
+    scale = jnp.where(pd_t - pfa < N_DERIVATIVE_MIN_EXCESS, jnp.nan, 1.0)
+    return x, dx - scale * dpd_n / dpd_dx
+
+
+_required_snr.defjvp(_required_snr_jvp, symbolic_zeros=True)
 
 
 def required_snr_db(pd, pfa, n=1, swerling=0, method="exact"):
@@ -180,7 +198,7 @@ def required_snr_db(pd, pfa, n=1, swerling=0, method="exact"):
         test_detection_accuracy.py, test_detection_domain_properties.py); where Pd - Pfa is
         below ~1e-8 Pd the inputs themselves limit it (a relative rounding eps of Pd moves the
         root by eps Pd / (Pd - Pfa) relative in S; Swerling 2 similarly through T(Pfa)/T(Pd) - 1).
-        Differentiable implicitly in pd, pfa, n.
+        Differentiable implicitly in pd, pfa, n (in n where pd - pfa >= 1e-290; NaN below).
 
     Domain: the same eagerly and under ``jit``: an eager call outside it (including
     pd <= pfa) raises DomainError, a traced call returns NaN, value and gradient.

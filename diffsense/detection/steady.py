@@ -18,10 +18,12 @@ accumulates ``P(K <= j)`` upward from the lower bound ``k_lo``. Both are sums of
 An element uses UP when ``mu >= T - N`` (K's mean at or above the window centre, so Pd is not
 small and an absolute error of a few ulp is round-off) and DOWN otherwise (which keeps full
 relative accuracy of ``Pd - Pfa`` when it is tiny). With this split ``k_hi <= j_hi`` for every
-DOWN element and ``k_lo >= j_lo`` for every UP element, so no element walks outside the window:
+DOWN element and ``k_lo >= j_lo`` for every UP element, so no element walks above the window:
 the number of steps is at most the window length (about ``2 sqrt(2 L T)``, 90 at N = 10 and
 Pfa = 1e-6) whatever the SNR, where the general kernel walks from ``k_hi`` even when it lies
-far above the window (up to 190 steps in the same case).
+far above the window (up to 190 steps in the same case). DOWN walks continue below the window
+bottom to j = 0 (as in ``core.py``): when K's mean is small the terms of ``Pd - Pfa`` lie at the
+smallest j, below a window that starts above 0 when T - N > sqrt(2 L T) (Pfa < ~1e-35 at N = 1).
 
 The window sum ``W = sum_j w_j`` is kept in the UP form (instead of writing it ``1 - Pfa``)
 because the threshold solver returns a T with ``Q(N, T) = Pfa`` only to the accuracy of the
@@ -235,8 +237,10 @@ def _steady_kernel(snr, t, n, pfa, j_lo, j_hi, w_sum, tail_l):
     pmf_start = jnp.exp(log_poisson_pmf_at_integer(jnp.where(up, k_lo, k_hi), mu))
     zeros = jnp.zeros_like(mu)
 
-    # DOWN: j runs from the highest k_hi of the DOWN elements (<= j_hi) to the window bottom;
-    # steps past the bottom (unrolling) are masked.
+    # DOWN: j runs from the highest k_hi of the DOWN elements (<= j_hi) down to 0, below the
+    # window bottom: when K's mean is small the terms of Pd - Pfa lie at the smallest j, and
+    # stopping at j_lo lost Pd - Pfa once it fell below exp(-L) absolutely (core.py). Steps
+    # past 0 (unrolling) are masked.
     # Entering step j, `pmf` holds P(K = j + 1) and `surv` P(K > j + 1); an element's pmf is 0
     # until j reaches its own k_hi (UP elements never start: their start mass is 0 here).
     pmf_down = jnp.where(up, 0.0, pmf_start)
@@ -246,14 +250,14 @@ def _steady_kernel(snr, t, n, pfa, j_lo, j_hi, w_sum, tail_l):
     def down_step(s):
         j, w, pmf, surv, acc = s
         surv = surv + pmf  # P(K > j)
-        acc = acc + jnp.where((j >= j_lo) & (j <= j_hi), w, 0.0) * surv
+        acc = acc + jnp.where((j >= 0.0) & (j <= j_hi), w, 0.0) * surv
         ratio = (j + 1.0) * inv_mu_hi + (j + 1.0) * inv_mu_lo  # (j + 1) / mu
         pmf = jnp.where(j == k_hi, pmf_down, pmf * ratio)  # P(K = j)
         return j - 1.0, w * ((n + j) / t), pmf, surv, acc
 
     w_top = jnp.exp(_log_poisson_weight(n + jnp.maximum(j_top, 0.0), t))
     _, _, _, _, acc = jax.lax.while_loop(
-        lambda s: s[0] >= j_lo, _unrolled(down_step), (j_top, w_top, zeros, zeros, zeros)
+        lambda s: s[0] >= 0.0, _unrolled(down_step), (j_top, w_top, zeros, zeros, zeros)
     )
 
     # UP: j runs from the lowest k_lo of the UP elements (>= j_lo) to the window top. Entering

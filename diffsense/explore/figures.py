@@ -140,5 +140,45 @@ def tornado_figure(source: ColumnDataSource):
     return fig
 
 
+def interval_data(curve: Optional[dict]) -> dict:
+    """Columns of an interval requirement's output against its parameter (snapshot ``intervals``)."""
+    if curve is None:
+        return {"x": [], "y": []}
+    return {"x": np.asarray(curve["grid"]), "y": np.asarray(curve["values"])}
+
+
+def interval_worst_data(curve: Optional[dict]) -> dict:
+    """The worst point of the curve's grid (min for at_least, max for at_most)."""
+    if curve is None or not len(curve["values"]):
+        return {"x": [], "y": []}
+    v = np.asarray(curve["values"])
+    k = int(np.nanargmax(v) if curve["sense"] == "at_most" else np.nanargmin(v))
+    return {"x": [float(curve["grid"][k])], "y": [float(v[k])]}
+
+
+def interval_title(curve: dict) -> str:
+    sense = {"at_least": "≥", "at_most": "≤"}.get(curve["sense"], "=")
+    return (f"{curve['output']} over {curve['parameter']}: worst {curve['worst_value']:.4g} "
+            f"{sense} {curve['limit']:.4g} required ({curve['status']})")
+
+
+def interval_limit_span() -> Span:
+    """The requirement's limit across the interval curve."""
+    return Span(location=0.0, dimension="width", line_color=ORANGE, line_dash="dashed", line_width=2)
+
+
+def interval_figure(source: ColumnDataSource, worst: ColumnDataSource, limit: Span, log_x: bool = False):
+    """The chosen interval requirement's output over its parameter (log axis where every
+    interval's search grid is log-spaced), its limit and the worst grid point."""
+    fig = _figure("Requirement over its interval", height=300, x_axis_type="log" if log_x else "linear")
+    fig.line("x", "y", source=source, color=BLUE, line_width=2, legend_label="output")
+    fig.scatter("x", "y", source=worst, color=RED, size=9, legend_label="worst point of the curve")
+    fig.add_layout(limit)
+    fig.legend.location = "bottom_right"
+    fig.legend.label_text_font_size = "11px"
+    return fig
+
+
 __all__ = ["waterfall_data", "waterfall_figure", "show_waterfall", "required_span", "sweep_data", "snr_figure", "pd_figure",
-           "design_range_span", "required_pd_span", "tornado_data", "tornado_figure"]
+           "design_range_span", "required_pd_span", "tornado_data", "tornado_figure", "interval_data",
+           "interval_worst_data", "interval_title", "interval_limit_span", "interval_figure"]

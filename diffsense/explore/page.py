@@ -57,11 +57,24 @@ class ExplorerPage:
         self.save_path = pn.widgets.TextInput(name="save as", value=str(save_path or f"{stem}_explored.toml"), width=230)
         self.report_dir = pn.widgets.TextInput(name="report directory", value=str(report_dir or f"{stem}_report"),
                                                width=230)
-        self.snap = session.snapshot()
+        # the numbers first (the core program); the curves and elasticities once their larger
+        # program is compiled, after the page is shown (prepare_extras)
+        self.snap = session.snapshot(extras=None)
         self._build_design_widgets()
         self._build_charts()
         self._build_buttons()
         self.layout = self._layout()
+        self.refresh()
+        if not session.program.extras_ready:
+            pn.state.onload(self.prepare_extras)
+
+    async def prepare_extras(self) -> None:
+        """Compile the curves' and elasticities' program off the event loop, then draw them."""
+        self.extras_note.object = ("<div style='color:#57606a;font-size:12px' data-role='extras'>compiling the "
+                                   "range sweeps, interval curves and elasticities …</div>")
+        seconds = await asyncio.get_running_loop().run_in_executor(None, self.session.prepare_extras)
+        self.extras_note.object = (f"<div style='color:#57606a;font-size:12px' data-role='extras' data-ready='1'>"
+                                   f"curves and elasticities compiled in {seconds:.1f} s</div>")
         self.refresh()
 
     # --- widgets ----------------------------------------------------------------------------
@@ -117,6 +130,18 @@ class ExplorerPage:
         self.snr_fig = F.snr_figure(self.snr_source, self.threshold_source, self.design_snr)
         self.pd_fig = F.pd_figure(self.pd_source, self.required_pd, self.design_pd)
         self.tornado = F.tornado_figure(self.tornado_source)
+        self.extras_note = pn.pane.HTML("", sizing_mode="stretch_width")
+        names = list(self.session.program.interval_requirements)
+        labels = [self.session.model.requirements[j].name for j in names]
+        self.interval = pn.widgets.Select(name="requirement over its interval", options=labels, width=300,
+                                          visible=bool(labels))
+        self.interval_source = ColumnDataSource(F.interval_data(None))
+        self.interval_limit = F.interval_limit_span()
+        self.interval_worst = ColumnDataSource(F.interval_worst_data(None))
+        log_x = bool(names) and all(bool(self.session.model.intervals.boxes[j].log[0]) for j in names)
+        self.interval_fig = F.interval_figure(self.interval_source, self.interval_worst, self.interval_limit, log_x)
+        self.interval_fig.visible = bool(labels)
+        self.interval.param.watch(lambda e: self._draw_interval(), "value")
         self.headline = pn.pane.HTML("", sizing_mode="stretch_width")
         self.requirements = pn.pane.HTML("", sizing_mode="stretch_width")
         self.timing = pn.pane.HTML("", sizing_mode="stretch_width")
@@ -158,16 +183,19 @@ class ExplorerPage:
                    sizing_mode="stretch_width"),
             pn.Row(pn.pane.Bokeh(self.snr_fig, sizing_mode="stretch_width"),
                    pn.pane.Bokeh(self.pd_fig, sizing_mode="stretch_width"), sizing_mode="stretch_width"),
-            pn.Row(pn.Column(self.output, pn.pane.Bokeh(self.tornado, sizing_mode="stretch_width"),
-                             sizing_mode="stretch_width"), self.timing, sizing_mode="stretch_width"),
-            sizing_mode="stretch_width")
+            self.extras_note,
+            pn.Row(pn.Column(self.interval, pn.pane.Bokeh(self.interval_fig, sizing_mode="stretch_width"),
+                             sizing_mode="stretch_width", visible=bool(self.interval.options)),
+                   pn.Column(self.output, pn.pane.Bokeh(self.tornado, sizing_mode="stretch_width"),
+                             sizing_mode="stretch_width"), sizing_mode="stretch_width"),
+            self.timing, sizing_mode="stretch_width")
         return pn.Row(sidebar, main, sizing_mode="stretch_width")
 
     # --- drawing ------------------------------------------------------------------------------
     def refresh(self) -> None:
         """Evaluate the current point and draw it."""
         t0 = time.perf_counter()
-        self.snap = self.session.snapshot()
+        self.snap = self.session.snapshot(extras=None)
         snap, case = self.snap, self.case.value
         units = {(c, o): self.spec.unit_of(c, o) for c, cs in snap["cases"].items() for o in cs["outputs"]}
         with pn.io.hold():
@@ -192,12 +220,26 @@ class ExplorerPage:
             else:
                 self.required.visible = False
             self._draw_tornado()
+            self._draw_interval()
             self.update_ms = 1e3 * (time.perf_counter() - t0)
             self.timing.object = (f"<div style='color:#57606a;font-size:12px;margin-top:40px'>server: evaluation "
                                   f"<span data-role='eval-ms'>{snap['eval_ms']:.1f}</span> ms, page update "
                                   f"<span data-role='update-ms'>{self.update_ms:.1f}</span> ms</div>")
 
+    def _draw_interval(self) -> None:
+        curve = self.snap["intervals"].get(self.interval.value) if self.interval.value else None
+        self.interval_source.data = F.interval_data(curve)
+        self.interval_worst.data = F.interval_worst_data(curve)
+        if curve is not None:
+            self.interval_limit.location = curve["limit"]
+            self.interval_fig.title.text = F.interval_title(curve)
+            self.interval_fig.xaxis.axis_label = f"{curve['parameter']} ({curve['unit']})"
+            self.interval_fig.yaxis.axis_label = f"{curve['output']} ({curve['output_unit']})"
+
     def _draw_tornado(self) -> None:
+        if self.snap["elasticity"] is None:
+            self.tornado_source.data = F.tornado_data([], [])
+            return
         labels = self.session.output_labels()
         row = labels.index(self.output.value)
         data = F.tornado_data([i.name for i in self.session.inputs], self.snap["elasticity"][row])

@@ -162,18 +162,34 @@ class ExplorerSession:
         return [range_grid(float(self.v[k]), self.inputs[k].lo, self.inputs[k].hi)
                 for k in self.program.sweep_inputs]
 
-    def evaluate(self) -> dict:
-        """The compiled program at the current point (timed: :attr:`last_eval_ms`)."""
+    def evaluate(self, extras: bool = True) -> dict:
+        """The compiled programs at the current point (timed: :attr:`last_eval_ms`); without
+        ``extras`` only the core program (evaluations, requirements, objective)."""
         combo = self.combo_index
         shift = self._cost_weight * (self.model.combo_table[combo, -1] - self.model.combo_table[0, -1])
         t0 = time.perf_counter()
-        out = self.program(self.v, shift, self.grids())
+        out = self.program.core(self.v, shift)
+        if extras:
+            out.update(self.program.extras(self.v, self.grids()))
         self.last_eval_ms = 1e3 * (time.perf_counter() - t0)
         return out
 
-    def snapshot(self) -> dict:
-        """Everything the page shows at the current point (plain Python and NumPy values)."""
-        out = self.evaluate()
+    def prepare_extras(self) -> float:
+        """Compile the extras program (sweeps, interval curves, Jacobian) by running it at the
+        current point; returns the seconds it took."""
+        t0 = time.perf_counter()
+        self.program.extras(self.v, self.grids())
+        return time.perf_counter() - t0
+
+    def snapshot(self, extras: Optional[bool] = True) -> dict:
+        """Everything the page shows at the current point (plain Python and NumPy values).
+
+        ``extras``: True computes the range sweeps, interval curves and elasticities (compiling
+        their program on first use); False leaves them empty (``sweeps`` and ``intervals`` {},
+        ``elasticity`` None); None computes them once their program is compiled."""
+        if extras is None:
+            extras = self.program.extras_ready
+        out = self.evaluate(extras)
         rows = self.model.requirement_rows(out["requirements"])
         for row, scale in zip(rows, self.model.scales):
             row["status"] = requirement_status(row["met"], row["slack"] / scale)
@@ -183,8 +199,23 @@ class ExplorerSession:
             headline = next((n for n in HEADLINE_OUTPUTS if n in outputs), None)
             cases[case] = {"budget": budget_rows(ev), "outputs": outputs, "headline": headline}
         return {"cases": cases, "requirements": rows, "objective": float(out["objective"]),
-                "sweeps": self._sweeps(out), "elasticity": self._elasticity(out, rows),
+                "sweeps": self._sweeps(out) if extras else {},
+                "intervals": self._intervals(out, rows) if extras else {},
+                "elasticity": self._elasticity(out, rows) if extras else None,
                 "eval_ms": self.last_eval_ms}
+
+    def _intervals(self, out, rows) -> dict:
+        """Per one-parameter interval requirement (by name): its parameter, the grid (parameter's
+        unit), the output on it, the limit, the sense and the worst value the search found."""
+        curves = {}
+        for j in self.program.interval_requirements:
+            r, row = self.model.requirements[j], rows[j]
+            iv = r.over[0]
+            curves[r.name] = {"parameter": iv.parameter, "unit": self.spec.unit_of(r.case, iv.parameter),
+                              "output": r.output, "output_unit": row["unit"], "grid": self.program.interval_grids[j],
+                              "values": np.asarray(out["intervals"][j], dtype=float), "limit": float(r.limit),
+                              "sense": r.sense, "worst_value": float(row["value"]), "status": row["status"]}
+        return curves
 
     def _sweeps(self, out) -> dict:
         grids = dict(zip(self.program.sweep_inputs, self.grids()))

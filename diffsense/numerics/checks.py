@@ -31,7 +31,12 @@ def check_range(name: str, x, lo=None, hi=None, *, lo_open=False, hi_open=False,
     """
     if not is_concrete(x):
         return
-    a = np.asarray(x, dtype=float)
+    a = np.asarray(x)
+    a = a.astype(a.dtype if np.issubdtype(a.dtype, np.floating) else float)
+    # XLA treats subnormal inputs as zero (in comparisons and arithmetic, eager or jitted), so
+    # the check judges the number the computation will see: eager and traced calls agree
+    subnormal = (a != 0) & (np.abs(a) < np.finfo(a.dtype).tiny)
+    a = np.where(subnormal, np.copysign(0.0, a), a)
     bad = np.isnan(a)
     if lo is not None:
         bad |= (a <= lo) if lo_open else (a < lo)
@@ -39,13 +44,15 @@ def check_range(name: str, x, lo=None, hi=None, *, lo_open=False, hi_open=False,
         bad |= (a >= hi) if hi_open else (a > hi)
     if np.any(bad):
         first = a[bad].flat[0]
+        shown = np.asarray(x, dtype=float)[bad].flat[0]
         lo_s = "-inf" if lo is None else f"{lo:g}"
         hi_s = "inf" if hi is None else f"{hi:g}"
         lb = "(" if lo_open or lo is None else "["
         rb = ")" if hi_open or hi is None else "]"
         ctx = f"{where}: " if where else ""
         raise DomainError(
-            f"{ctx}argument '{name}' must lie in {lb}{lo_s}, {hi_s}{rb}; got {first!r}"
+            f"{ctx}argument '{name}' must lie in {lb}{lo_s}, {hi_s}{rb}; got {float(shown)!r}"
+            + (" (a subnormal number, which the computation treats as 0)" if first == 0 and shown != 0 else "")
             + (f" ({int(np.count_nonzero(bad))} of {a.size} elements out of range)" if a.size > 1 else "")
         )
 

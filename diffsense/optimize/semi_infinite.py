@@ -176,13 +176,53 @@ def _refine(fn_u, u0, lo, hi, cell, sweeps: int, iters: int = 40):
     return lax.fori_loop(0, sweeps, sweep, u0)
 
 
-def worst_points(fn: Callable, theta, bx: Box, n_worst: int = 3, *, extra=None, sweeps: Optional[int] = None):
+#: points per coordinate and rounds of the value-only polish (:func:`_zoom`)
+ZOOM_POINTS = 9
+ZOOM_ROUNDS = 14
+
+
+def _zoom(fn_u, u0, lo, hi, cell, sweeps: int, rounds: int = ZOOM_ROUNDS, points: int = ZOOM_POINTS):
+    """Polish a grid minimum from values alone: along each coordinate in turn, ``points`` evenly
+    spaced values on [u − h, u + h] ∩ [lo, hi] (h = one grid cell at first), move to the
+    smallest, and shrink h by (points − 1)/2 — ``rounds`` times; ``sweeps`` cycles over the
+    coordinates. Each round keeps the minimum of its basin inside the new bracket when the basin
+    is resolved by the points (a unimodal function on the bracket), so the minimiser is located
+    to cell · 4^−rounds (3.7e−9 of a cell with the defaults) and a smooth minimum's value to
+    round-off. It needs no derivatives of ``fn``, so its compiled program is a fraction of the
+    Newton polish's (the live explorer uses it); where ``fn`` is not unimodal on a cell both
+    polishes keep a local minimum, and the dense re-check settles the design."""
+    offsets = jnp.linspace(-1.0, 1.0, points)
+    shrink = (points - 1) / 2.0
+
+    def line(u, i, h):
+        ts = jnp.clip(u[i] + h * offsets, lo[i], hi[i])
+        cands = jnp.tile(u, (points, 1)).at[:, i].set(ts)
+        vals = jax.vmap(fn_u)(cands)
+        vals = jnp.where(jnp.isfinite(vals), vals, jnp.inf)
+        # the middle candidate is u itself (u lies in [lo, hi]), so the move never goes uphill
+        return cands[jnp.argmin(vals)]
+
+    def sweep(_, u):
+        def round_(r, u):
+            h = cell / shrink**r
+            for i in range(u0.size):
+                u = line(u, i, h[i])
+            return u
+        return lax.fori_loop(0, rounds, round_, u)
+
+    return lax.fori_loop(0, sweeps, sweep, u0)
+
+
+def worst_points(fn: Callable, theta, bx: Box, n_worst: int = 3, *, extra=None, sweeps: Optional[int] = None,
+                 polish: str = "newton"):
     """The ``n_worst`` lowest local minima of ``fn(theta, p)`` (p of shape (d,)) over the box ``bx``
     and where they lie: ``(values (n_worst,), points (n_worst, d))``, sorted by value (module
     docstring). ``theta`` is any pytree (the design); the search itself runs on
     ``stop_gradient(theta)``, so derivatives with respect to θ flow only through the final values
     ``fn(theta, p*)`` at the fixed points p* — the envelope theorem. ``extra``: candidate points
-    (E, d) added to the grid's (e.g. points a dense check found)."""
+    (E, d) added to the grid's (e.g. points a dense check found). ``polish``: ``"newton"`` (exact
+    line minimisation, :func:`_refine`) or ``"zoom"`` (values only, :func:`_zoom`: a much smaller
+    program to compile, the minimiser to 4e−9 of a grid cell)."""
     theta_s = jax.tree_util.tree_map(lax.stop_gradient, theta)
     grid = jnp.asarray(bx.grid())
     cands = grid if extra is None else jnp.concatenate([grid, jnp.asarray(extra, dtype=grid.dtype)], axis=0)
@@ -202,7 +242,13 @@ def worst_points(fn: Callable, theta, bx: Box, n_worst: int = 3, *, extra=None, 
         return fn(theta_s, bx.from_u(u))
 
     n_sweeps = (1 if bx.dim == 1 else 4) if sweeps is None else sweeps
-    u_best = jax.vmap(lambda u0: _refine(fn_u, u0, lo, hi, cell, n_sweeps))(bx.to_u(cands[idx]))
+    if polish == "newton":
+        start = lambda u0: _refine(fn_u, u0, lo, hi, cell, n_sweeps)
+    elif polish == "zoom":
+        start = lambda u0: _zoom(fn_u, u0, lo, hi, cell, n_sweeps)
+    else:
+        raise ValueError(f"polish must be 'newton' or 'zoom'; got {polish!r}")
+    u_best = jax.vmap(start)(bx.to_u(cands[idx]))
     points = lax.stop_gradient(jnp.clip(bx.from_u(u_best), bx.lower, bx.upper))
     vals = jax.vmap(lambda q: fn(theta, q))(points)
     order = jnp.argsort(lax.stop_gradient(vals))

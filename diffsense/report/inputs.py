@@ -101,6 +101,16 @@ def input_vector(inputs: List[Input]) -> np.ndarray:
     return np.array([i.value for i in inputs], dtype=float)
 
 
+def case_parameters(spec, inputs: List[Input], v) -> Dict[str, dict]:
+    """Per case, the chain's parameter dict (arrays) at input vector ``v`` (or a dict
+    ``{input index: value}``, as :func:`input_evaluator` takes)."""
+    params: Dict[str, dict] = {case: {} for case in spec.scenes}
+    for k, inp in enumerate(inputs):
+        for case in inp.cases:
+            params[case][inp.param] = jnp.asarray(v[k], dtype=float)
+    return params
+
+
 def input_evaluator(model: DesignModel, inputs: List[Input], combo_index: int):
     """``fn(v) -> (evaluations, requirement_values, objective)`` for an input vector ``v``.
 
@@ -118,15 +128,8 @@ def input_evaluator(model: DesignModel, inputs: List[Input], combo_index: int):
     cat_index = {i.name: k for k, i in enumerate(inputs) if i.kind == "catalog"}
 
     def fn(v):
-        params: Dict[str, dict] = {case: {} for case in spec.scenes}
-        for k, inp in enumerate(inputs):
-            for case in inp.cases:
-                params[case][inp.param] = v[k]
-        evaluations, case_params = {}, {}
-        for case, scene in spec.scenes.items():
-            p = {name: jnp.asarray(value, dtype=float) for name, value in params[case].items()}
-            case_params[case] = p
-            evaluations[case] = chain_for(scene).compute(scene, p)
+        case_params = case_parameters(spec, inputs, v)
+        evaluations = {case: chain_for(scene).compute(scene, case_params[case]) for case, scene in spec.scenes.items()}
         x = jnp.stack([jnp.asarray(v[var_index[n]], dtype=float) for n in model.variable_names]) \
             if model.variable_names else jnp.zeros((0,))
         combo = jnp.stack([jnp.asarray(v[cat_index[n]], dtype=float) for n in model.combo_params]
@@ -138,4 +141,4 @@ def input_evaluator(model: DesignModel, inputs: List[Input], combo_index: int):
     return fn
 
 
-__all__ = ["Input", "KINDS", "design_inputs", "input_vector", "input_evaluator"]
+__all__ = ["Input", "KINDS", "design_inputs", "input_vector", "input_evaluator", "case_parameters"]

@@ -119,6 +119,10 @@ def test_page_matches_the_command_line_and_saves_a_spec_it_reads_back(server, br
     snr1 = _changed(b, snr0)
     Select(b.labelled("freq_hz", "select")).select_by_visible_text("94 GHz")
     snr2 = _changed(b, snr1)
+    # the curves' and elasticities' program compiles after the first load; latencies are timed
+    # with it (every update then computes the sweeps, interval curves and Jacobian too)
+    b.wait_until(lambda: b.all("[data-role=extras][data-ready='1']"), 240, "the curves' program")
+    assert b.all("select") and "requirement over its interval" in b.driver.page_source
 
     # latency: one keyboard step of the slider, timed in the page from the key press to the new
     # SNR in the DOM; the server's evaluation and page update times are read from the page

@@ -42,6 +42,33 @@ def test_saved_point_reads_back_and_evaluates_as_shown(session, tmp_path):
     assert snap["objective"] == pytest.approx(record["objective"]["value"], rel=1e-12)
 
 
+def test_interval_curves_and_worst_values_agree_with_the_design_record(session):
+    # the page's worst values use the value-only polish; the record the optimiser's Newton polish
+    # and the 10,001-point re-check: both must give the same worst value of each interval
+    s = session.fork()
+    s.set_variable("antenna_diameter_m", 0.4)
+    snap = s.snapshot()
+    assert set(snap["intervals"]) == {r.name for r in s.model.requirements if r.over}
+    spec = s.spec_here()
+    model = type(s.model)(spec)
+    record = design_record(model, model.initial, s.combo_index)
+    rows = {r["name"]: r for r in record["requirements"]}
+    for name, curve in snap["intervals"].items():
+        row = rows[name]
+        assert curve["worst_value"] == pytest.approx(row["value"], rel=1e-9, abs=1e-9), name
+        worst_on_curve = min(curve["values"]) if curve["sense"] == "at_least" else max(curve["values"])
+        assert (worst_on_curve >= curve["worst_value"] - 1e-9) if curve["sense"] == "at_least" else \
+            (worst_on_curve <= curve["worst_value"] + 1e-9)
+        # a curve point is the chain's output at that value of the parameter
+        case = spec.requirements[[r.name for r in spec.requirements].index(name)].case
+        k = len(curve["grid"]) // 3
+        params = dict(model.parameters(model.initial, model.combo_table[s.combo_index])[case])
+        params[curve["parameter"]] = curve["grid"][k]
+        direct = s.model.intervals.value_at([r.name for r in spec.requirements].index(name), params,
+                                            [curve["grid"][k]])
+        assert curve["values"][k] == pytest.approx(float(direct), rel=1e-12, abs=1e-12)
+
+
 def test_bad_typed_values_give_the_spec_message(session):
     s = session.fork()
     with pytest.raises(SpecError, match="key 'fixed.range_m'"):

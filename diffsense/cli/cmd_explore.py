@@ -36,7 +36,7 @@ def explore(
     try:
         with reporter.step(f"reading {design_file} and compiling its evaluation"):
             session = ExplorerSession(design_file)
-            session.snapshot(extras=False)  # the sweeps' and Jacobian's program compiles while serving
+            session.snapshot(extras=None)  # the quick program; the rest compiles once a page is open
     except SpecError as exc:
         reporter.error(str(exc))
         raise typer.Exit(code=EXIT_BAD_INPUT)

@@ -28,7 +28,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from diffsense.design.spec.types import Requirement
-from diffsense.optimize.semi_infinite import Box, box, dense_check, worst_points
+from diffsense.optimize.semi_infinite import Box, box, dense_check, worst_points, worst_points_shared
 from diffsense.scene import chain_for
 
 #: points of the dense re-check of a requirement over an interval or box
@@ -74,6 +74,12 @@ class IntervalRequirements:
         #: how the worst points are polished (:func:`~diffsense.optimize.semi_infinite.worst_points`):
         #: "newton" for the optimiser; the live explorer sets "zoom" (values only, quicker to compile)
         self.polish = "newton"
+        #: with the "zoom" polish, whether worst values carry derivatives with respect to the
+        #: design (False: one evaluation fewer per group; read when a function is traced)
+        self.differentiable = True
+        #: when True, worst values are NaN without a search (the live explorer's first program,
+        #: which shows everything else before the searches are compiled; read when tracing)
+        self.pending = False
 
     def value_at(self, j: int, params: dict, q):
         """Requirement j's output with its ``over`` parameters set to ``q`` (d,); ``params``: the
@@ -100,9 +106,51 @@ class IntervalRequirements:
         return -self.sign[j] * vals, pts
 
     def worst_values(self, x, combo, params_by_case=None) -> Dict[int, jnp.ndarray]:
-        """Per interval requirement, its worst value (min for at_least, max for at_most)."""
+        """Per interval requirement, its worst value (min for at_least, max for at_most).
+
+        With the "zoom" polish, requirements of one case over the same box are searched together
+        (:meth:`_shared_worst`): one batched chain evaluation computes all their outputs."""
+        if self.pending:
+            return {j: jnp.asarray(jnp.nan) for j in self.indices}
         params = self.parameters_of(x, combo) if params_by_case is None else params_by_case
-        return {j: self.worst(j, params[self.spec.requirements[j].case])[0][0] for j in self.indices}
+        if self.polish != "zoom":
+            return {j: self.worst(j, params[self.spec.requirements[j].case])[0][0] for j in self.indices}
+        out = {}
+        for js in self._groups():
+            p = params[self.spec.requirements[js[0]].case]
+            if js[0] in self.extra:
+                out[js[0]] = self.worst(js[0], p)[0][0]
+            else:
+                out.update(self._shared_worst(js, p))
+        return out
+
+    def _groups(self):
+        """The interval requirements by (case, box, parameters, over_worst), spec order."""
+        groups: Dict[tuple, list] = {}
+        for j in self.indices:
+            r, bx = self.spec.requirements[j], self.boxes[j]
+            key = ("own", j) if j in self.extra else (
+                r.case, tuple(iv.parameter for iv in r.over), tuple(bx.lower), tuple(bx.upper), tuple(bx.log),
+                bx.counts, r.over_worst)
+            groups.setdefault(key, []).append(j)
+        return list(groups.values())
+
+    def _values_together(self, js, params: dict, q):
+        """The oriented values −s·v (smaller is worse) of requirements ``js`` (one case, one box)
+        at point ``q``, from one chain evaluation computing all their outputs."""
+        reqs = [self.spec.requirements[j] for j in js]
+        p = dict(params)
+        for k, iv in enumerate(reqs[0].over):
+            p[iv.parameter] = q[k]
+        scene = self.spec.scenes[reqs[0].case]
+        values = chain_for(scene).compute(scene, p, wanted=frozenset(r.output for r in reqs)).values
+        return jnp.stack([-self.sign[j] * jnp.asarray(values[r.output], dtype=float) for j, r in zip(js, reqs)])
+
+    def _shared_worst(self, js, params: dict) -> Dict[int, jnp.ndarray]:
+        vals, _ = worst_points_shared(lambda theta, q: self._values_together(js, theta[0], q), (params,),
+                                      self.boxes[js[0]], len(js), self.spec.requirements[js[0]].over_worst,
+                                      differentiable=self.differentiable)
+        return {j: -self.sign[j] * vals[i, 0] for i, j in enumerate(js)}
 
     def rows(self, x, combo, limits) -> Dict[int, jnp.ndarray]:
         """Per interval requirement, its constraint rows s·(v_k − b)/scale (≤ 0 when met)."""

@@ -143,8 +143,9 @@ def tornado_figure(source: ColumnDataSource):
 def interval_data(curve: Optional[dict]) -> dict:
     """Columns of an interval requirement's output against its parameter (snapshot ``intervals``)."""
     if curve is None:
-        return {"x": [], "y": []}
-    return {"x": np.asarray(curve["grid"]), "y": np.asarray(curve["values"])}
+        return {"x": [], "y": [], "limit": []}
+    x = np.asarray(curve["grid"])
+    return {"x": x, "y": np.asarray(curve["values"]), "limit": np.full(x.shape, curve["limit"])}
 
 
 def interval_worst_data(curve: Optional[dict]) -> dict:
@@ -162,23 +163,19 @@ def interval_title(curve: dict) -> str:
             f"{sense} {curve['limit']:.4g} required ({curve['status']})")
 
 
-def interval_limit_span() -> Span:
-    """The requirement's limit across the interval curve."""
-    return Span(location=0.0, dimension="width", line_color=ORANGE, line_dash="dashed", line_width=2)
-
-
-def interval_figure(source: ColumnDataSource, worst: ColumnDataSource, limit: Span, log_x: bool = False):
+def interval_figure(source: ColumnDataSource, worst: ColumnDataSource, log_x: bool = False):
     """The chosen interval requirement's output over its parameter (log axis where every
-    interval's search grid is log-spaced), its limit and the worst grid point."""
+    interval's search grid is log-spaced), its limit (a line of the source, so that the axis
+    range always holds it) and the worst grid point."""
     fig = _figure("Requirement over its interval", height=300, x_axis_type="log" if log_x else "linear")
     fig.line("x", "y", source=source, color=BLUE, line_width=2, legend_label="output")
+    fig.line("x", "limit", source=source, color=ORANGE, line_dash="dashed", line_width=2, legend_label="limit")
     fig.scatter("x", "y", source=worst, color=RED, size=9, legend_label="worst point of the curve")
-    fig.add_layout(limit)
-    fig.legend.location = "bottom_right"
+    fig.legend.location = "top_right"
     fig.legend.label_text_font_size = "11px"
     return fig
 
 
 __all__ = ["waterfall_data", "waterfall_figure", "show_waterfall", "required_span", "sweep_data", "snr_figure", "pd_figure",
            "design_range_span", "required_pd_span", "tornado_data", "tornado_figure", "interval_data",
-           "interval_worst_data", "interval_title", "interval_limit_span", "interval_figure"]
+           "interval_worst_data", "interval_title", "interval_figure"]

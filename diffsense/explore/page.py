@@ -68,13 +68,23 @@ class ExplorerPage:
         if not session.program.extras_ready:
             pn.state.onload(self.prepare_extras)
 
+    def _note(self, text: str, ready: bool = False) -> None:
+        flag = " data-ready='1'" if ready else ""
+        self.extras_note.object = f"<div style='color:#57606a;font-size:12px' data-role='extras'{flag}>{text}</div>"
+
     async def prepare_extras(self) -> None:
-        """Compile the curves' and elasticities' program off the event loop, then draw them."""
-        self.extras_note.object = ("<div style='color:#57606a;font-size:12px' data-role='extras'>compiling the "
-                                   "range sweeps, interval curves and elasticities …</div>")
-        seconds = await asyncio.get_running_loop().run_in_executor(None, self.session.prepare_extras)
-        self.extras_note.object = (f"<div style='color:#57606a;font-size:12px' data-role='extras' data-ready='1'>"
-                                   f"curves and elasticities compiled in {seconds:.1f} s</div>")
+        """Compile, off the event loop, the interval requirements' searches and then the curves'
+        and elasticities' program, drawing what each adds as soon as it is ready."""
+        loop = asyncio.get_running_loop()
+        core_s = 0.0
+        if not self.session.program.core_ready:
+            self._note("compiling the searches of the requirements over intervals …")
+            core_s = await loop.run_in_executor(None, self.session.prepare_core)
+            self.refresh()
+        self._note("compiling the range sweeps, interval curves and elasticities …")
+        extras_s = await loop.run_in_executor(None, self.session.prepare_extras)
+        self._note(f"interval searches compiled in {core_s:.1f} s, curves and elasticities in {extras_s:.1f} s",
+                   ready=True)
         self.refresh()
 
     # --- widgets ----------------------------------------------------------------------------
@@ -136,10 +146,9 @@ class ExplorerPage:
         self.interval = pn.widgets.Select(name="requirement over its interval", options=labels, width=300,
                                           visible=bool(labels))
         self.interval_source = ColumnDataSource(F.interval_data(None))
-        self.interval_limit = F.interval_limit_span()
         self.interval_worst = ColumnDataSource(F.interval_worst_data(None))
         log_x = bool(names) and all(bool(self.session.model.intervals.boxes[j].log[0]) for j in names)
-        self.interval_fig = F.interval_figure(self.interval_source, self.interval_worst, self.interval_limit, log_x)
+        self.interval_fig = F.interval_figure(self.interval_source, self.interval_worst, log_x)
         self.interval_fig.visible = bool(labels)
         self.interval.param.watch(lambda e: self._draw_interval(), "value")
         self.headline = pn.pane.HTML("", sizing_mode="stretch_width")
@@ -231,7 +240,6 @@ class ExplorerPage:
         self.interval_source.data = F.interval_data(curve)
         self.interval_worst.data = F.interval_worst_data(curve)
         if curve is not None:
-            self.interval_limit.location = curve["limit"]
             self.interval_fig.title.text = F.interval_title(curve)
             self.interval_fig.xaxis.axis_label = f"{curve['parameter']} ({curve['unit']})"
             self.interval_fig.yaxis.axis_label = f"{curve['output']} ({curve['output_unit']})"

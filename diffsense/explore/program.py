@@ -4,14 +4,18 @@ curves and derivatives, all as functions of the report's input vector.
 The input vector is :func:`diffsense.report.inputs.design_inputs` — every design variable,
 every catalog parameter and every fixed parameter — so moving a slider, picking a catalog
 option or typing a fixed value only changes the numbers fed to the same compiled programs; each
-is traced and compiled once per spec (:class:`ExplorerProgram`). There are two, so that the
-page can show its numbers before the larger one is compiled:
+is traced and compiled once per spec (:class:`ExplorerProgram`). There are two main ones, so that the
+page can show its numbers before the larger one is compiled (and a third, :meth:`ExplorerProgram.quick`,
+the core without the interval requirements' searches, whose values it leaves NaN, so that the
+page shows the budgets, outputs and point requirements before those searches are compiled):
 
 * :meth:`ExplorerProgram.core` — ``evaluations``, ``requirements`` and ``objective`` of
   :func:`diffsense.report.inputs.input_evaluator` (every case with every output; interval
   requirements at their worst point, found with the value-only polish of
-  :func:`diffsense.optimize.semi_infinite.worst_points`, whose program compiles in a fraction of
-  the time of the optimiser's Newton polish and agrees with it to round-off at a smooth minimum;
+  :func:`diffsense.optimize.semi_infinite.worst_points_shared` — the requirements of one case
+  over one box searched together by one batched chain evaluation, without the evaluation that
+  carries derivatives — whose program compiles in a fraction of the time of the optimiser's
+  Newton polish and agrees with it to round-off at a smooth minimum;
   the objective as the spec states it, for the catalog combination whose cost it is given);
 * :meth:`ExplorerProgram.extras` — ``sweeps``: per case with a numeric ``range_m`` input, the
   outputs ``snr_db``, ``required_snr_db``, ``pd`` and the main detection margin
@@ -130,9 +134,20 @@ class ExplorerProgram:
             _, req, obj = fn(v)
             return jnp.concatenate([jnp.reshape(req, (-1,)), jnp.reshape(obj, (1,))])
 
-        def core(v, cost_shift):
-            evaluations, req, obj = fn(v)
+        def evaluated(v, cost_shift, flag: str, value: bool):
+            # a switch of the interval searches, read while tracing (module docstring)
+            old = getattr(model.intervals, flag)
+            setattr(model.intervals, flag, value)
+            try:
+                evaluations, req, obj = fn(v)
+            finally:
+                setattr(model.intervals, flag, old)
             return {"evaluations": evaluations, "requirements": req, "objective": obj + cost_shift}
+
+        # core: no derivatives (the Jacobian is in extras), so the searches skip the evaluation
+        # that carries them; quick: the core without the interval searches (values NaN)
+        core = lambda v, cost_shift: evaluated(v, cost_shift, "differentiable", False)
+        quick = lambda v, cost_shift: evaluated(v, cost_shift, "pending", True)
 
         def extras(v, grids: Tuple):
             sweeps = {}
@@ -140,12 +155,25 @@ class ExplorerProgram:
                 sweeps.update(swept(v, k, grid))
             return {"sweeps": sweeps, "intervals": curves(v), "jacobian": jax.jacfwd(stacked)(v)}
 
+        self._quick = jax.jit(quick)
         self._core = jax.jit(core)
         self._extras = jax.jit(extras)
+        self.core_ready = False
+
+    def quick(self, v, cost_shift: float) -> dict:
+        """:meth:`core` with the interval requirements' values NaN (no search compiled)."""
+        out = self._quick(jnp.asarray(v, dtype=float), jnp.asarray(cost_shift, dtype=float))
+        return jax.tree_util.tree_map(np.asarray, out)
 
     def core(self, v, cost_shift: float) -> dict:
         """Evaluations, requirement values and objective at input vector ``v`` (NumPy arrays)."""
-        out = self._core(jnp.asarray(v, dtype=float), jnp.asarray(cost_shift, dtype=float))
+        args = (jnp.asarray(v, dtype=float), jnp.asarray(cost_shift, dtype=float))
+        if self.core_ready:
+            out = self._core(*args)
+        else:
+            with self._compiling:
+                out = jax.block_until_ready(self._core(*args))
+                self.core_ready = True
         return jax.tree_util.tree_map(np.asarray, out)
 
     def extras(self, v, grids) -> dict:

@@ -162,17 +162,25 @@ class ExplorerSession:
         return [range_grid(float(self.v[k]), self.inputs[k].lo, self.inputs[k].hi)
                 for k in self.program.sweep_inputs]
 
-    def evaluate(self, extras: bool = True) -> dict:
+    def evaluate(self, extras: bool = True, core: bool = True) -> dict:
         """The compiled programs at the current point (timed: :attr:`last_eval_ms`); without
-        ``extras`` only the core program (evaluations, requirements, objective)."""
+        ``extras`` only the core program (evaluations, requirements, objective); without
+        ``core`` the quick program instead (interval requirements NaN)."""
         combo = self.combo_index
         shift = self._cost_weight * (self.model.combo_table[combo, -1] - self.model.combo_table[0, -1])
         t0 = time.perf_counter()
-        out = self.program.core(self.v, shift)
+        out = self.program.core(self.v, shift) if core else self.program.quick(self.v, shift)
         if extras:
             out.update(self.program.extras(self.v, self.grids()))
         self.last_eval_ms = 1e3 * (time.perf_counter() - t0)
         return out
+
+    def prepare_core(self) -> float:
+        """Compile the core program (with the interval requirements' searches) by running it at
+        the current point; returns the seconds it took."""
+        t0 = time.perf_counter()
+        self.program.core(self.v, 0.0)
+        return time.perf_counter() - t0
 
     def prepare_extras(self) -> float:
         """Compile the extras program (sweeps, interval curves, Jacobian) by running it at the
@@ -186,13 +194,20 @@ class ExplorerSession:
 
         ``extras``: True computes the range sweeps, interval curves and elasticities (compiling
         their program on first use); False leaves them empty (``sweeps`` and ``intervals`` {},
-        ``elasticity`` None); None computes them once their program is compiled."""
+        ``elasticity`` None); None uses only what is compiled: the core once it is (else the
+        quick program, whose interval requirements are shown as "pending"), the extras once
+        they are."""
+        core = True
         if extras is None:
             extras = self.program.extras_ready
-        out = self.evaluate(extras)
+            core = self.program.core_ready
+        out = self.evaluate(extras, core)
         rows = self.model.requirement_rows(out["requirements"])
-        for row, scale in zip(rows, self.model.scales):
-            row["status"] = requirement_status(row["met"], row["slack"] / scale)
+        for row, scale, r in zip(rows, self.model.scales, self.model.requirements):
+            if not core and r.over:
+                row["status"] = "pending"
+            else:
+                row["status"] = requirement_status(row["met"], row["slack"] / scale)
         cases = {}
         for case, ev in out["evaluations"].items():
             outputs = {k: float(np.asarray(v)) for k, v in ev.values.items() if np.ndim(v) == 0}

@@ -14,7 +14,8 @@ from diffsense.report.render import fmt
 
 _SENSE = {"at_least": "≥", "at_most": "≤", "equals": "="}
 #: (background, text colour) per requirement status
-STOPLIGHT = {"met": ("#e8f5e9", "#1b5e20"), "active": ("#fff8e1", "#8d6e00"), "unmet": ("#ffebee", "#b71c1c")}
+STOPLIGHT = {"met": ("#e8f5e9", "#1b5e20"), "active": ("#fff8e1", "#8d6e00"), "unmet": ("#ffebee", "#b71c1c"),
+             "pending": ("#f6f8fa", "#57606a")}  # an interval requirement whose search is still compiling
 STYLE = """
 <style>
 .ds-table {border-collapse: collapse; width: 100%; font-size: 13px;}
@@ -64,11 +65,13 @@ def headline_html(snapshot: dict, objective_text: str, units: dict) -> str:
         if name is not None:
             label = f"{name} ({case})" if several else name
             cards.append(card(label, c["outputs"][name], units.get((case, name), ""), f"headline-{case}"))
-    met = sum(r["status"] != "unmet" for r in snapshot["requirements"])
+    met = sum(r["status"] in ("met", "active") for r in snapshot["requirements"])
+    pending = sum(r["status"] == "pending" for r in snapshot["requirements"])
     total = len(snapshot["requirements"])
-    colour = STOPLIGHT["met" if met == total else "unmet"][1]
+    colour = STOPLIGHT["met" if met == total else "pending" if met + pending == total else "unmet"][1]
+    more = f' <span style="font-size:13px">({pending} pending)</span>' if pending else ""
     cards.append(f'<div class="ds-card"><div class="ds-label">requirements met</div>'
-                 f'<div class="ds-big" data-role="met" style="color:{colour}">{met} / {total}</div></div>')
+                 f'<div class="ds-big" data-role="met" style="color:{colour}">{met} / {total}{more}</div></div>')
     cards.append(card(f"objective: {objective_text}", snapshot["objective"], "", "objective", digits=4))
     return f'{STYLE}<div class="ds-cards">{"".join(cards)}</div>'
 

@@ -45,7 +45,7 @@ import jax.numpy as jnp
 import numpy as np
 from jax import lax
 
-__all__ = ["Box", "box", "worst_points", "worst_values", "dense_check", "DenseCheck"]
+__all__ = ["Box", "box", "worst_points", "worst_points_shared", "worst_values", "dense_check", "DenseCheck"]
 
 
 class Box(NamedTuple):
@@ -187,8 +187,8 @@ def _zoom(fn_u, u0, lo, hi, cell, sweeps: int, rounds: int = ZOOM_ROUNDS, points
     smallest, and shrink h by (points − 1)/2 — ``rounds`` times; ``sweeps`` cycles over the
     coordinates. Each round keeps the minimum of its basin inside the new bracket when the basin
     is resolved by the points (a unimodal function on the bracket), so the minimiser is located
-    to cell · 4^−rounds (3.7e−9 of a cell with the defaults) and a smooth minimum's value to
-    round-off. It needs no derivatives of ``fn``, so its compiled program is a fraction of the
+    to cell · 4^−rounds (3.7e−9 of a cell with the defaults) — or to ~√ε relative at a smooth
+    minimum, where the values differ only by round-off — and the minimum's value to round-off. It needs no derivatives of ``fn``, so its compiled program is a fraction of the
     Newton polish's (the live explorer uses it); where ``fn`` is not unimodal on a cell both
     polishes keep a local minimum, and the dense re-check settles the design."""
     offsets = jnp.linspace(-1.0, 1.0, points)
@@ -202,15 +202,21 @@ def _zoom(fn_u, u0, lo, hi, cell, sweeps: int, rounds: int = ZOOM_ROUNDS, points
         # the middle candidate is u itself (u lies in [lo, hi]), so the move never goes uphill
         return cands[jnp.argmin(vals)]
 
-    def sweep(_, u):
-        def round_(r, u):
-            h = cell / shrink**r
-            for i in range(u0.size):
-                u = line(u, i, h[i])
-            return u
-        return lax.fori_loop(0, rounds, round_, u)
+    return _zoom_rounds(line, u0, cell, u0.size, sweeps, rounds, shrink)
 
-    return lax.fori_loop(0, sweeps, sweep, u0)
+
+def _zoom_rounds(line, state, cell, dim: int, sweeps: int, rounds: int, shrink: float):
+    """``sweeps`` × ``rounds`` × ``dim`` calls ``state = line(state, c, h)``, the half-width h
+    one grid cell at first and divided by ``shrink`` each round."""
+    def sweep(_, state):
+        def round_(r, state):
+            h = cell / shrink**r
+            for c in range(dim):
+                state = line(state, c, h[c])
+            return state
+        return lax.fori_loop(0, rounds, round_, state)
+
+    return lax.fori_loop(0, sweeps, sweep, state)
 
 
 def worst_points(fn: Callable, theta, bx: Box, n_worst: int = 3, *, extra=None, sweeps: Optional[int] = None,
@@ -253,6 +259,62 @@ def worst_points(fn: Callable, theta, bx: Box, n_worst: int = 3, *, extra=None, 
     vals = jax.vmap(lambda q: fn(theta, q))(points)
     order = jnp.argsort(lax.stop_gradient(vals))
     return vals[order], points[order]
+
+
+def worst_points_shared(fn_multi: Callable, theta, bx: Box, m: int, n_worst: int = 3, *,
+                        differentiable: bool = True, sweeps: Optional[int] = None,
+                        rounds: int = ZOOM_ROUNDS, points: int = ZOOM_POINTS):
+    """:func:`worst_points` with the value-only polish for ``m`` functions over one box at once.
+
+    ``fn_multi(theta, p)`` returns the m values (m,) at one point — e.g. several outputs of one
+    sensor chain, computed together. Every evaluation (the grid; per round and coordinate, the
+    ``points`` candidates of each function's ``n_worst`` starts) is one batched call of
+    ``fn_multi``, so the compiled program holds two or three copies of it whatever m is, instead
+    of three per function; each function ranks and moves on its own column. Returns ``(values
+    (m, n_worst), points (m, n_worst, d))``, each function's sorted. With ``differentiable``
+    False the values are the polish's own (no derivative with respect to ``theta``; one copy
+    fewer); otherwise they are re-evaluated at the stopped points (the envelope theorem)."""
+    theta_s = jax.tree_util.tree_map(lax.stop_gradient, theta)
+    grid = jnp.asarray(bx.grid())
+    values = jax.vmap(lambda q: fn_multi(theta_s, q))(grid)  # (K, m)
+    lo, hi = (jnp.asarray(a) for a in bx.u_bounds())
+    cell = jnp.asarray(bx.cell())
+    starts, start_vals = [], []
+    for i in range(m):
+        v = values[:, i]
+        finite = jnp.isfinite(v)
+        mask = _local_minimum_mask(v, bx.counts)
+        span = jnp.max(jnp.where(finite, jnp.abs(v), 0.0)) + 1.0
+        score = jnp.where(finite, v, 1e300) + jnp.where(mask, 0.0, 4.0 * span)
+        _, idx = lax.top_k(-score, n_worst)
+        starts.append(bx.to_u(grid[idx]))
+        start_vals.append(jnp.where(finite, v, jnp.inf)[idx])
+    u0 = jnp.stack(starts)  # (m, n_worst, d)
+    v0 = jnp.stack(start_vals)  # (m, n_worst)
+    offsets = jnp.linspace(-1.0, 1.0, points)
+    shrink = (points - 1) / 2.0
+    own = jnp.arange(m)
+
+    def line(state, c, h):
+        u, _ = state
+        ts = jnp.clip(u[..., c][..., None] + h * offsets, lo[c], hi[c])  # (m, n_worst, P)
+        cands = jnp.broadcast_to(u[:, :, None, :], ts.shape + (u.shape[-1],)).at[..., c].set(ts)
+        flat = cands.reshape(-1, u.shape[-1])
+        vals = jax.vmap(lambda uu: fn_multi(theta_s, bx.from_u(uu)))(flat).reshape(ts.shape + (m,))
+        vals = vals[own, :, :, own]  # each function's own column: (m, n_worst, P)
+        vals = jnp.where(jnp.isfinite(vals), vals, jnp.inf)
+        k = jnp.argmin(vals, axis=-1)  # the middle candidate is u itself: never uphill
+        u_new = jnp.take_along_axis(cands, k[..., None, None], axis=2)[:, :, 0, :]
+        return u_new, jnp.take_along_axis(vals, k[..., None], axis=2)[..., 0]
+
+    n_sweeps = (1 if bx.dim == 1 else 4) if sweeps is None else sweeps
+    u_best, v_best = _zoom_rounds(line, (u0, v0), cell, bx.dim, n_sweeps, rounds, shrink)
+    pts = lax.stop_gradient(jnp.clip(bx.from_u(u_best), bx.lower, bx.upper))
+    if differentiable:
+        flat = jax.vmap(lambda q: fn_multi(theta, q))(pts.reshape(-1, bx.dim)).reshape(m, n_worst, m)
+        v_best = flat[own, :, own]
+    order = jnp.argsort(lax.stop_gradient(v_best), axis=-1)
+    return jnp.take_along_axis(v_best, order, axis=-1), jnp.take_along_axis(pts, order[..., None], axis=1)
 
 
 def worst_values(fn: Callable, theta, bx: Box, n_worst: int = 3, *, extra=None, sweeps: Optional[int] = None):

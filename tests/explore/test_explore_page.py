@@ -122,7 +122,8 @@ def test_page_matches_the_command_line_and_saves_a_spec_it_reads_back(server, br
     # the curves' and elasticities' program compiles after the first load; latencies are timed
     # with it (every update then computes the sweeps, interval curves and Jacobian too)
     b.wait_until(lambda: b.all("[data-role=extras][data-ready='1']"), 240, "the curves' program")
-    assert b.all("select") and "requirement over its interval" in b.driver.page_source
+    curves = Select(b.labelled("requirement over its interval", "select"))
+    assert [o.text for o in curves.options] == [r.name for r in load_spec(SPEC).requirements if r.over]
 
     # latency: one keyboard step of the slider, timed in the page from the key press to the new
     # SNR in the DOM; the server's evaluation and page update times are read from the page

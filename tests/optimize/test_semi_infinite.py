@@ -120,3 +120,29 @@ def test_a_null_far_narrower_than_the_grid_cell_is_found_to_machine_precision():
     vals, pts = worst_points(f, 0.0, bx, n_worst=1)
     assert pts[0, 0] == pytest.approx(100.0, rel=1e-12)
     assert vals[0] == pytest.approx(20.0 * math.log10(1.0 - rho), abs=1e-9)
+
+
+def test_shared_value_only_search_finds_each_functions_minima_and_envelope_derivative():
+    from diffsense.optimize.semi_infinite import worst_points_shared
+
+    # three functions of one point, evaluated together: an interior quadratic minimum between
+    # grid points, multipath-like nulls (closed-form positions), and a minimum on the box face
+    def fns(theta, p):
+        return jnp.stack([(p[0] - theta) ** 2 + 0.5, _nulls(theta, jnp.asarray([p[0] * 1000.0])),
+                          theta * p[0]])
+
+    bx = box([0.15], [12.0])
+    vals, pts = worst_points_shared(fns, 0.3712345, bx, 3, n_worst=2)
+    # values alone place a smooth minimiser to ~sqrt(eps) (the values are flat at round-off there)
+    assert pts[0, 0, 0] == pytest.approx(0.3712345, rel=1e-7) and vals[0, 0] == pytest.approx(0.5, abs=1e-14)
+    nulls = [2000.0 / (n * math.pi) / 1000.0 for n in (1, 2, 3, 4)]
+    for p in pts[1, :, 0]:
+        assert min(abs(float(p) - e) / e for e in nulls) < 1e-7
+    assert np.allclose(vals[1], 0.3712345 - 30.0, atol=1e-6)
+    assert float(pts[2, 0, 0]) == 0.15 and float(vals[2, 0]) == pytest.approx(0.3712345 * 0.15, rel=1e-15)
+    # the same values as the Newton polish, one function at a time
+    newton = worst_points(lambda th, p: fns(th, p)[0], 0.3712345, bx, n_worst=1)[0][0]
+    assert float(vals[0, 0]) == pytest.approx(float(newton), abs=1e-14)
+    # envelope derivative: d/dtheta of min_p theta*p over [0.15, 12] is 0.15
+    g = jax.grad(lambda th: worst_points_shared(fns, th, bx, 3, n_worst=1)[0][2, 0])(0.5)
+    assert float(g) == pytest.approx(0.15, rel=1e-12)

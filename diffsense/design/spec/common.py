@@ -133,9 +133,10 @@ def check_domain(file, key: str, prm: Param, value: float) -> None:
     """Raise unless ``value`` lies in the documented domain of the chain parameter ``prm``."""
     try:
         check_range(prm.name, value, prm.lo, prm.hi, lo_open=prm.lo_open, hi_open=prm.hi_open)
-    except DomainError:
+    except DomainError as exc:
         unit = "" if prm.unit in ("", "1") else f" (in {prm.unit})"
-        raise SpecError(file, key, f"{_with_unit(value, prm.unit)} lies outside the model's domain "
+        subnormal = " (a subnormal number, which the computation treats as 0)" if "subnormal" in str(exc) else ""
+        raise SpecError(file, key, f"{_with_unit(value, prm.unit)}{subnormal} lies outside the model's domain "
                         f"{domain_text(prm)}{unit} of '{prm.name}'") from None
 
 

@@ -47,7 +47,12 @@ def explore(spec_or_path, *, session: Optional[ExplorerSession] = None):
     _panel()
     from diffsense.explore.page import ExplorerPage
 
-    page = ExplorerPage(session or ExplorerSession(spec_or_path))
+    session = session or ExplorerSession(spec_or_path)
+    # a notebook cell shows the whole explorer when it finishes: every program compiled first
+    # (the served page instead loads in steps, see ExplorerPage.prepare_extras)
+    session.prepare_core()
+    session.prepare_extras()
+    page = ExplorerPage(session)
     view = page.layout
     view.page = page
     view.session = page.session

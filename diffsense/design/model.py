@@ -228,9 +228,17 @@ class DesignModel:
     def raw_objective(self, x, combo, evaluations=None) -> jnp.ndarray:
         """Objective in the spec's own terms (weighted sum; maximisation negated); without
         ``evaluations`` the cases are evaluated for :attr:`objective_outputs` only."""
+        ev = evaluations
+        if ev is None and any(t[0] == "output" for t in self._objective_terms):
+            ev = self.evaluate(x, combo, self.objective_outputs)
+        return self.spec.objective.sign * self.weighted_terms(self._objective_terms, x, combo, ev)
+
+    def weighted_terms(self, terms, x, combo, evaluations) -> jnp.ndarray:
+        """Σ weight · value over objective terms ``(source, case, base, weight)``: the catalog
+        cost, a design variable, a catalog parameter, a case's output (from ``evaluations``) or
+        a fixed parameter."""
         total = jnp.asarray(0.0)
-        ev = None
-        for source, case, base, weight in self._objective_terms:
+        for source, case, base, weight in terms:
             if source == "cost":
                 val = combo[-1]
             elif source == "variable":
@@ -238,13 +246,11 @@ class DesignModel:
             elif source == "combo":
                 val = combo[self.combo_params.index(base)]
             elif source == "output":
-                if ev is None:
-                    ev = self.evaluate(x, combo, self.objective_outputs) if evaluations is None else evaluations
-                val = ev[case].values[base]
+                val = evaluations[case].values[base]
             else:
                 val = self.fixed[case][base]
             total = total + weight * val
-        return self.spec.objective.sign * total
+        return total
 
     def objective(self, x, combo) -> jnp.ndarray:
         """Normalised objective (≈ ±1 at the initial design) to be minimised."""

@@ -83,23 +83,7 @@ class TradeObjectives:
         ev = evaluations
         if ev is None and self.wanted:
             ev = m.evaluate(x, combo, self.wanted)
-        out = []
-        for terms in self.terms:
-            total = jnp.asarray(0.0)
-            for source, case, base, weight in terms:
-                if source == "cost":
-                    val = combo[-1]
-                elif source == "variable":
-                    val = x[m.variable_names.index(base)]
-                elif source == "combo":
-                    val = combo[m.combo_params.index(base)]
-                elif source == "output":
-                    val = ev[case].values[base]
-                else:
-                    val = m.fixed[case][base]
-                total = total + weight * val
-            out.append(total)
-        return jnp.stack(out)
+        return jnp.stack([m.weighted_terms(terms, x, combo, ev) for terms in self.terms])
 
     def minimised(self, x, combo):
         """The objectives as minimised (maximised ones negated), shape (K,)."""

@@ -18,17 +18,7 @@ import numpy as np
 
 from diffsense.design.trade import TradeResult
 from diffsense.optimize.continuation import normalized
-
-_DPI = 110
-
-
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
+from diffsense.report.figures import _pyplot, _save
 
 
 def _axis_label(label: str, unit: str) -> str:
@@ -95,14 +85,6 @@ def parallel_figure(result: TradeResult, path: Path) -> Path:
     ax.grid(True, axis="x", alpha=0.4)
     fig.tight_layout()
     return _save(fig, path)
-
-
-def _save(fig, path: Path) -> Path:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=_DPI)
-    _pyplot().close(fig)
-    return path
 
 
 def write_csv(result: TradeResult, path: Path) -> Path:

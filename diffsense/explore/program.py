@@ -167,24 +167,23 @@ class ExplorerProgram:
 
     def core(self, v, cost_shift: float) -> dict:
         """Evaluations, requirement values and objective at input vector ``v`` (NumPy arrays)."""
-        args = (jnp.asarray(v, dtype=float), jnp.asarray(cost_shift, dtype=float))
-        if self.core_ready:
-            out = self._core(*args)
-        else:
-            with self._compiling:
-                out = jax.block_until_ready(self._core(*args))
-                self.core_ready = True
-        return jax.tree_util.tree_map(np.asarray, out)
+        return self._first_compiled("core_ready", self._core,
+                                    (jnp.asarray(v, dtype=float), jnp.asarray(cost_shift, dtype=float)))
 
     def extras(self, v, grids) -> dict:
         """Sweeps, interval curves and Jacobian at ``v`` (NumPy arrays); compiles on first use."""
-        args = (jnp.asarray(v, dtype=float), tuple(jnp.asarray(g, dtype=float) for g in grids))
-        if self.extras_ready:
-            out = self._extras(*args)
+        return self._first_compiled("extras_ready", self._extras,
+                                    (jnp.asarray(v, dtype=float), tuple(jnp.asarray(g, dtype=float) for g in grids)))
+
+    def _first_compiled(self, ready: str, program, args) -> dict:
+        """``program(*args)`` as NumPy arrays; until flag ``ready`` is set, under one lock, so that
+        a program is compiled once whichever thread (a slider move, the page's loader) asks first."""
+        if getattr(self, ready):
+            out = program(*args)
         else:
-            with self._compiling:  # one compilation, whichever thread (server warm-up, page) asks first
-                out = jax.block_until_ready(self._extras(*args))
-                self.extras_ready = True
+            with self._compiling:
+                out = jax.block_until_ready(program(*args))
+                setattr(self, ready, True)
         return jax.tree_util.tree_map(np.asarray, out)
 
     def __call__(self, v, cost_shift: float, grids) -> dict:

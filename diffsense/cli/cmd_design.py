@@ -16,24 +16,32 @@ from diffsense.cli.state import reporter_from
 DESIGN_FILE = typer.Argument(..., help="Requirement spec (TOML), e.g. designs/ore_pass.toml.", show_default=False)
 
 
-def load_model(design_file: Path, reporter: Reporter):
+def load_model(design_file: Path, reporter: Reporter, *, starts: Optional[int] = None, tangents: bool = False):
     """Read, validate and model a spec; on an invalid spec print one error line and exit 2.
 
     Besides each key's own checks, the chain is evaluated once at the initial design and the
-    corners of the box (:func:`diffsense.design.spec.evaluable.check_evaluable`), so that values
-    the chain rejects together, or cannot evaluate to a finite answer, are reported here."""
+    corners of the box (:func:`diffsense.design.evaluable.check_evaluable`), so that values the
+    chain rejects together, or cannot evaluate to a finite answer, are reported here. With
+    ``starts`` the optimiser's programs begin compiling first (in background threads, while the
+    others are traced); ``tangents``: designs are evaluated with derivatives (a report)."""
+    from diffsense.design.evaluable import check_evaluable
     from diffsense.design.model import DesignModel
+    from diffsense.design.optimizer import prepare
     from diffsense.design.spec import load_spec
-    from diffsense.design.spec.evaluable import check_evaluable
     from diffsense.errors import SpecError
 
     try:
         with reporter.step(f"reading {clip(design_file)}"):
             spec = load_spec(design_file)
-        with reporter.step("compiling the chain and checking it at the initial design and the box corners"):
-            check_evaluable(spec)
-        with reporter.step("building the design model"):
-            return DesignModel(spec)
+            model = DesignModel(spec)
+            model.programs.tangents_everywhere = tangents
+        with reporter.step("compiling the design programs" if starts else "compiling the evaluation programs"):
+            if starts:
+                prepare(model, n_starts=starts)
+            model.programs.start("values", "search", "dense")
+        with reporter.step("checking the chain at the initial design and the box corners"):
+            check_evaluable(model)
+        return model
     except SpecError as exc:
         reporter.error(str(exc))
         raise typer.Exit(code=EXIT_BAD_INPUT)
@@ -89,7 +97,7 @@ def optimize(
 
     reporter = reporter_from(ctx)
     t0 = time.perf_counter()
-    model = load_model(design_file, reporter)
+    model = load_model(design_file, reporter, starts=starts)
     lanes = len(model.combinations) * starts
     with reporter.step(f"compiling and solving {lanes} lanes "
                        f"({len(model.combinations)} catalog combinations x {starts} starts)"):
@@ -134,10 +142,11 @@ def report(
     from diffsense.report import build_report
 
     reporter = reporter_from(ctx)
-    load_model(design_file, reporter)  # exit 2 here, with the CLI's checks, on an invalid spec
+    # exit 2 here, with the CLI's checks, on an invalid spec; the report reuses the model's programs
+    model = load_model(design_file, reporter, starts=None if no_optimize else starts, tangents=True)
     try:
         with reporter.step(f"{'optimising and ' if not no_optimize else ''}writing the report of {clip(design_file)}"):
-            record = build_report(design_file, out, optimize=not no_optimize, n_starts=starts, seed=seed)
+            record = build_report(design_file, out, optimize=not no_optimize, n_starts=starts, seed=seed, model=model)
     except SpecError as exc:
         reporter.error(str(exc))
         raise typer.Exit(code=EXIT_BAD_INPUT)

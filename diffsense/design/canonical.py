@@ -23,6 +23,10 @@ The stage runs only when the optimum is flat: some direction z of the free varia
 log-scaled ones) is orthogonal to the gradients of F and of every active requirement *and* F
 and the active requirements change by less than 1e-10 (scaled) along ±1e-3·z — a first- and
 second-order test. A unique optimum is returned unchanged.
+
+Everything here runs through the optimiser's one lane program (:mod:`diffsense.design.problem`):
+the gradients and the values of the test are the linearisations of lanes whose box pins every
+variable at the point asked about, and the second stage is a lane whose stage input says so.
 """
 
 from __future__ import annotations
@@ -31,11 +35,13 @@ from dataclasses import dataclass
 from typing import Optional
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 
 from diffsense.design.model import DesignModel
-from diffsense.optimize import Problem, SolverOptions, solve
+from diffsense.design.problem import variable_scales
+from diffsense.design.programs import rows_of, stack
+from diffsense.design.runner import Lanes, Runner, bounds_problem, objective_scale
+from diffsense.optimize import SolverOptions
 from diffsense.optimize.bounds import variables_on_bounds
 
 #: relative objective tolerance of the second stage
@@ -61,89 +67,122 @@ class Canonical:
     rule: str
 
 
-def _flat_directions(model, x, combo, free, rows_fn, f_fn):
+class _Linearised:
+    """Values and derivatives of the problem at points, from lanes pinned there: the normalised
+    objective F, every requirement row r (inequalities and equalities, :attr:`row_owner`
+    order) and their Jacobians with respect to x."""
+
+    def __init__(self, model: DesignModel, run, theta, points):
+        points = np.atleast_2d(points)
+        k = points.shape[0]
+        x0 = np.hstack([points, np.zeros((k, 1))])
+        res = run.solve(Lanes(x0, stack([theta] * k), x0, x0, np.zeros(k, dtype=int)))
+        ineq = ~model.row_is_equality
+        m = int(ineq.sum())
+        n = points.shape[1]
+        self.f = np.asarray(res.f, dtype=float)
+        self.rows = np.zeros((k, ineq.size))
+        self.rows[:, ineq] = res.g[:, :m]
+        self.rows[:, ~ineq] = res.h
+        jac = np.asarray(res.jacobian, dtype=float)[:, :, :n]
+        self.grad_f = jac[:, 0, :]
+        self.jac_rows = np.zeros((k, ineq.size, n))
+        self.jac_rows[:, ineq, :] = jac[:, 1:1 + m, :]
+        self.jac_rows[:, ~ineq, :] = jac[:, 1 + 2 * m + 1:, :]
+
+
+def _flat_directions(model: DesignModel, run, theta, x, free):
     """Orthonormal directions (in y = ln x for log-scaled variables) of the free variables along
-    which the objective and the active rows are flat to second order."""
+    which the objective and the active rows are flat to second order, and the active rows."""
     n = x.size
-    to_x = lambda y: jnp.where(model.log_scale, jnp.exp(y), y)  # noqa: E731
-    y0 = jnp.where(model.log_scale, jnp.log(jnp.where(model.log_scale, x, 1.0)), x)
-    r0 = np.asarray(rows_fn(x))
+    to_x = lambda y: np.where(model.log_scale, np.exp(y), y)  # noqa: E731
+    y0 = np.where(model.log_scale, np.log(np.where(model.log_scale, x, 1.0)), x)
+    at = _Linearised(model, run, theta, x)
+    r0 = at.rows[0]
     active = np.flatnonzero((r0 >= -ACTIVE) | model.row_is_equality)
-    gf = np.asarray(jax.grad(lambda y: f_fn(to_x(y)))(y0))
-    J = np.asarray(jax.jacfwd(lambda y: rows_fn(to_x(y)))(y0))[active]
+    dx_dy = np.where(model.log_scale, x, 1.0)
+    gf = at.grad_f[0] * dx_dy
+    J = (at.jac_rows[0] * dx_dy[None, :])[active]
     M = np.vstack([gf[None, :], J])[:, free]
     if M.size == 0:
-        return np.zeros((n, 0)), active
+        return np.zeros((n, 0)), active, at
     _, s, vt = np.linalg.svd(M)
     rank = int(np.sum(s > 1e-8 * max(s.max(), 1e-300)))
     null = vt[rank:].T  # (n_free, k)
+    if null.shape[1] == 0:
+        return np.zeros((n, 0)), active, at
+    zs = np.zeros((null.shape[1], n))
+    zs[:, free] = null.T
+    trial = np.vstack([to_x(y0 + sgn * 1e-3 * z) for z in zs for sgn in (1.0, -1.0)])
+    probe = _Linearised(model, run, theta, trial)
+    f0 = float(at.f[0])
     flat = []
-    f0 = float(f_fn(x))
-    for k in range(null.shape[1]):
-        z = np.zeros(n)
-        z[free] = null[:, k]
+    for k, z in enumerate(zs):
         ok = True
-        for sgn in (1.0, -1.0):
-            xt = to_x(y0 + sgn * 1e-3 * z)
-            if abs(float(f_fn(xt)) - f0) > 1e-10 * max(abs(f0), 1.0):
+        for i in (2 * k, 2 * k + 1):
+            if abs(float(probe.f[i]) - f0) > 1e-10 * max(abs(f0), 1.0):
                 ok = False
-            if active.size and np.max(np.abs(np.asarray(rows_fn(xt))[active] - r0[active])) > 1e-10:
+            if active.size and np.max(np.abs(probe.rows[i][active] - r0[active])) > 1e-10:
                 ok = False
         if ok:
             flat.append(z)
-    return (np.stack(flat, axis=1) if flat else np.zeros((n, 0))), active
+    return (np.stack(flat, axis=1) if flat else np.zeros((n, 0))), active, at
 
 
-def canonical_optimum(model: DesignModel, x, combo_index: int, options: Optional[SolverOptions] = None) -> Optional[Canonical]:
+def canonical_optimum(model: DesignModel, x, combo_index: int, options: Optional[SolverOptions] = None, *,
+                      run=None, theta=None) -> Optional[Canonical]:
     """The second stage (module docstring) at the first-stage answer ``x`` of catalog combination
     ``combo_index``; ``None`` when the optimum is unique (no flat direction) or no requirement
-    is inactive. The answer is accepted only if it meets every requirement."""
+    is inactive. The answer is accepted only if it meets every requirement.
+
+    ``run``: the optimiser's lane runner (:class:`~diffsense.design.optimizer.Runner`; a new one
+    with ``options`` otherwise); ``theta``: the θ of the answer's lane (its interval slots; by
+    default a search at ``x`` sets them)."""
+
     x = np.asarray(x, dtype=float)
-    combo = jnp.asarray(model.combo_table[combo_index])
-    limits = jnp.asarray(model.limits)
-    rows_fn = jax.jit(lambda xx: model.residuals(xx, combo, limits))
-    f_fn = jax.jit(lambda xx: model.objective(xx, combo))
-    base = Problem(lambda xx, _: f_fn(xx), model.lower, model.upper, log_scale=model.log_scale,
-                   integer=model.integer)
-    on_lo, on_hi = variables_on_bounds(base, x)
+    if run is None:
+        run = Runner(model, options or SolverOptions(polish=False), "auto", 1)
+    if theta is None:
+        design = model.inputs(combo_index)
+        theta = model.solve_inputs(design, combo_index, model.limits, objective_scale(model))
+        V, inputs = model.programs.design_inputs(x[None, :], [combo_index])
+        theta = theta._replace(design=rows_of(inputs, 0))
+    theta = theta._replace(limits=np.asarray(model.limits, dtype=float))
+    on_lo, on_hi = variables_on_bounds(_bounds(model), x)
     free = np.flatnonzero(~model.integer & ~on_lo & ~on_hi)
     if free.size == 0:
         return None
-    flat, active = _flat_directions(model, jnp.asarray(x), combo, free, rows_fn, f_fn)
-    r0 = np.asarray(rows_fn(jnp.asarray(x)))
+    flat, active, at = _flat_directions(model, run, theta, x, free)
+    r0 = at.rows[0]
     inactive = np.setdiff1d(np.arange(r0.size), active)
     if flat.shape[1] == 0 or inactive.size == 0:
         return None
-    f_star = float(f_fn(jnp.asarray(x)))
+    f_star = float(at.f[0])
     f_cap = f_star + OBJECTIVE_SLACK * max(abs(f_star), 1.0)
     held = ~np.isin(np.arange(x.size), free)
     t_hi = float(np.max(-r0[inactive])) * 10.0 + 1.0
     lower = np.append(np.where(held, x, model.lower), 0.0)
     upper = np.append(np.where(held, x, model.upper), t_hi)
-    eq = model.row_is_equality
-
-    def g(v, _):
-        xx, t = v[:-1], v[-1]
-        r = model.residuals(xx, combo, limits)
-        parts = [r[~eq], jnp.reshape(model.objective(xx, combo) - f_cap, (1,)), r[inactive] + t]
-        return jnp.concatenate(parts)
-
-    def h(v, _):
-        return model.residuals(v[:-1], combo, limits)[eq]
-
-    def objective(v, _):
-        # max-min slack, then (weight TIE_WEIGHT) the mean saturated slack s/(1+s): the max-min
-        # alone leaves a set when a held requirement sets the smallest slack
-        slack = jnp.maximum(-model.residuals(v[:-1], combo, limits)[inactive], 0.0)
-        return -(v[-1] + TIE_WEIGHT * jnp.mean(slack / (1.0 + slack)))
-
-    problem = Problem(objective, lower, upper, inequality=g, equality=h if eq.any() else None,
-                      log_scale=np.append(model.log_scale, False))
+    ineq = np.flatnonzero(~model.row_is_equality)
+    mask = np.isin(ineq, inactive)
+    stage = model.stage(True, f_cap, mask)
     t0 = max(float(np.min(-r0[inactive])), 0.0)
-    res = solve(problem, jnp.asarray(np.append(x, t0)), None, options or SolverOptions(polish=False))
-    x2 = np.asarray(res.x[:-1], dtype=float)
-    rep = model.requirement_report(x2, model.combo_table[combo_index])
-    if not all(r["met"] for r in rep) or float(f_fn(jnp.asarray(x2))) > f_cap + 1e-12 * max(abs(f_star), 1.0):
+    lane = Lanes(np.append(x, t0)[None, :], _one(theta._replace(stage=stage)), lower[None, :], upper[None, :],
+                 np.array([combo_index]))
+    res = run.solve(lane, scale=variable_scales(model, lower, upper))
+    x2 = np.asarray(res.x[0, :-1], dtype=float)
+    rep = model.programs.reports(x2[None, :], [combo_index])[0]
+    after = _Linearised(model, run, theta, x2)
+    if not all(r["met"] for r in rep) or float(after.f[0]) > f_cap + 1e-12 * max(abs(f_star), 1.0):
         return None
-    r2 = np.asarray(rows_fn(jnp.asarray(x2)))
+    r2 = after.rows[0]
     return Canonical(x2, int(flat.shape[1]), float(np.min(-r0[inactive])), float(np.min(-r2[inactive])), RULE)
+
+
+def _one(tree):
+    """``tree`` with a leading axis of one row."""
+    return jax.tree_util.tree_map(lambda a: np.asarray(a)[None], tree)
+
+
+def _bounds(model: DesignModel):
+    return bounds_problem(model)

@@ -44,7 +44,6 @@ meeting several is not constrained.
 
 from __future__ import annotations
 
-from functools import partial
 from typing import Dict, Optional
 
 import jax
@@ -66,9 +65,10 @@ QUANTILE_ITERATIONS = 40
 _U_EDGE = 1e-12
 
 
-def draw(dist: Distribution, nominal, u):
+def draw(dist: Distribution, nominal, u, spread=None):
     """The values of ``dist`` at uniform draws ``u`` ∈ (0, 1), around the parameter's ``nominal``
-    value (its median: a parameter perturbed in a report moves the whole distribution).
+    value (its median: a parameter perturbed in a report moves the whole distribution);
+    ``spread``: σ, σ_ln or the width (default ``dist.spread``; the programs pass it as an input).
 
     normal: nominal + σ·z, lognormal: nominal·exp(σ_ln·z), z the standard normal truncated at
     ±6 (inverse CDF of u rescaled to [Φ(−6), Φ(6)]); uniform: nominal + (u − ½)·width.
@@ -81,19 +81,21 @@ def draw(dist: Distribution, nominal, u):
     3.9905246
     """
     u = jnp.clip(jnp.asarray(u, dtype=float), _U_EDGE, 1.0 - _U_EDGE)
+    spread = dist.spread if spread is None else spread
     if dist.kind == "uniform":
-        return nominal + (u - 0.5) * dist.spread
+        return nominal + (u - 0.5) * spread
     lo = ndtr(-TRUNCATE_SIGMAS)
     z = ndtri(lo + u * (1.0 - 2.0 * lo))
     if dist.kind == "normal":
-        return nominal + dist.spread * z
-    return nominal * jnp.exp(dist.spread * z)
+        return nominal + spread * z
+    return nominal * jnp.exp(spread * z)
 
 
-@partial(jax.custom_jvp, nondiff_argnums=(2,))
+@jax.custom_jvp
 def smooth_quantile(v, h, alpha):
     """The α-quantile of the sample ``v`` (N,) smoothed by a normal kernel of width ``h``: the
-    root q of (1/N) Σ Φ((q − v_i)/h) = α (module docstring), differentiable in ``v`` and ``h``.
+    root q of (1/N) Σ Φ((q − v_i)/h) = α (module docstring), differentiable in ``v``, ``h`` and
+    α (dq/dα = 1/f̃(q), f̃ the smoothed density, by the implicit function theorem).
 
     For a sample of two equal halves at −1 and +1 and α = ½ the root is 0 by symmetry:
 
@@ -106,6 +108,7 @@ def smooth_quantile(v, h, alpha):
 def _quantile_root(v, h, alpha):
     v = jax.lax.stop_gradient(v)
     h = jax.lax.stop_gradient(h)
+    alpha = jax.lax.stop_gradient(jnp.asarray(alpha, dtype=v.dtype))
     n = v.shape[0]
     a = jnp.min(v) - 9.0 * h  # F(a) < Φ(−9) ≈ 1e-19 ≤ α
     b = jnp.max(v) + 9.0 * h
@@ -126,14 +129,16 @@ def _quantile_root(v, h, alpha):
 
 
 @smooth_quantile.defjvp
-def _smooth_quantile_jvp(alpha, primals, tangents):
-    v, h = primals
-    dv, dh = tangents
+def _smooth_quantile_jvp(primals, tangents):
+    v, h, alpha = primals
+    dv, dh, dalpha = tangents
     q = smooth_quantile(v, h, alpha)
     z = (q - v) / h
-    w = jnp.exp(-0.5 * z * z)
-    w = w / jnp.sum(w)
-    return q, jnp.sum(w * dv) + jnp.sum(w * z) * dh
+    phi = jnp.exp(-0.5 * z * z)
+    total = jnp.sum(phi)
+    w = phi / total
+    density = total / (v.shape[0] * h * jnp.sqrt(2.0 * jnp.pi))
+    return q, jnp.sum(w * dv) + jnp.sum(w * z) * dh + dalpha / density
 
 
 def bandwidth(v, scale):
@@ -142,17 +147,18 @@ def bandwidth(v, scale):
     return BANDWIDTH * jnp.sqrt(jnp.var(v) + floor * floor)
 
 
-def sample_parameters(uncertainty: Uncertainty, table, params: dict, u) -> dict:
+def sample_parameters(uncertainty: Uncertainty, table, params: dict, u, spreads=None) -> dict:
     """``params`` with every uncertain parameter of ``table`` (a case's parameter table) replaced
-    by its draws at the uniform points ``u`` (…, d), columns in the order of the distributions."""
+    by its draws at the uniform points ``u`` (…, d), columns in the order of the distributions;
+    ``spreads`` (d,): the distributions' spreads (default their own)."""
     out = dict(params)
     for k, dist in enumerate(uncertainty.distributions):
         if dist.parameter in table:
-            out[dist.parameter] = draw(dist, params[dist.parameter], u[..., k])
+            out[dist.parameter] = draw(dist, params[dist.parameter], u[..., k], None if spreads is None else spreads[k])
     return out
 
 
-def sampled_outputs(spec, case: str, params: dict, wanted, u) -> Dict[str, jnp.ndarray]:
+def sampled_outputs(spec, case: str, params: dict, wanted, u, spreads=None) -> Dict[str, jnp.ndarray]:
     """The outputs ``wanted`` of ``case`` at every row of the uniform points ``u`` (M, d)
     (output -> (M,)): the chain evaluated with the uncertain parameters drawn from each row."""
     scene = spec.scenes[case]
@@ -160,7 +166,8 @@ def sampled_outputs(spec, case: str, params: dict, wanted, u) -> Dict[str, jnp.n
     table = spec.parameters[case]
 
     def one(row):
-        ev = chain.compute(scene, sample_parameters(spec.uncertain, table, params, row), wanted=frozenset(wanted))
+        ev = chain.compute(scene, sample_parameters(spec.uncertain, table, params, row, spreads),
+                           wanted=frozenset(wanted))
         return {o: jnp.asarray(ev.values[o], dtype=float) for o in wanted}
 
     return jax.vmap(one)(u)
@@ -172,16 +179,14 @@ def design_sample(uncertainty: Uncertainty) -> np.ndarray:
 
 
 class ChanceRequirements:
-    """The probabilistic requirements of a model: their smoothed quantiles and rows for the
-    optimiser. ``parameters_of(x, combo)`` is the model's per-case parameter function."""
+    """The probabilistic requirements of a spec: their smoothed quantiles as pure functions of
+    the case parameters and the inputs θ (sample, spreads, quantile levels and scales are data:
+    :meth:`sample`, :meth:`spreads`, :meth:`alphas`)."""
 
-    def __init__(self, spec, parameters_of, sign, scales):
+    def __init__(self, spec, sign):
         self.spec = spec
-        self.parameters_of = parameters_of
         self.indices = [j for j, r in enumerate(spec.requirements) if getattr(r, "probability", None) is not None]
         self.sign = np.asarray(sign, dtype=float)
-        self.scales = np.asarray(scales, dtype=float)
-        self.sample = design_sample(spec.uncertain) if self.indices else None
         self.cases = sorted({spec.requirements[j].case for j in self.indices})
 
     def alpha(self, j: int) -> float:
@@ -189,25 +194,31 @@ class ChanceRequirements:
         p = self.spec.requirements[j].probability
         return 1.0 - p if self.spec.requirements[j].sense == "at_least" else p
 
-    def samples(self, case: str, params: dict) -> Dict[str, jnp.ndarray]:
-        """The outputs of the probabilistic requirements of ``case`` at every point of the design
-        sample (output -> (N,)); ``params``: the case's parameter dict."""
-        wanted = frozenset(self.spec.requirements[j].output for j in self.indices
-                           if self.spec.requirements[j].case == case)
-        return sampled_outputs(self.spec, case, params, wanted, jnp.asarray(self.sample))
+    def alphas(self) -> np.ndarray:
+        return np.array([self.alpha(j) for j in self.indices], dtype=float)
 
-    def values(self, x, combo, params_by_case: Optional[dict] = None) -> Dict[int, jnp.ndarray]:
+    def sample(self) -> np.ndarray:
+        """The design sample (N, d); (0, 0) without probabilistic requirements."""
+        if not self.indices:
+            return np.zeros((0, 0))
+        return design_sample(self.spec.uncertain)
+
+    def spreads(self) -> np.ndarray:
+        if not self.indices:
+            return np.zeros((0,))
+        return np.array([d.spread for d in self.spec.uncertain.distributions], dtype=float)
+
+    def values(self, params_by_case: dict, inputs) -> Dict[int, jnp.ndarray]:
         """Per probabilistic requirement, the smoothed quantile q̃ of its output (its unit)."""
-        params = self.parameters_of(x, combo) if params_by_case is None else params_by_case
-        sampled = {case: self.samples(case, params[case]) for case in self.cases}
+        sampled = {}
+        for case in self.cases:
+            wanted = frozenset(self.spec.requirements[j].output for j in self.indices
+                               if self.spec.requirements[j].case == case)
+            sampled[case] = sampled_outputs(self.spec, case, params_by_case[case], wanted, inputs.sample,
+                                            inputs.spreads)
         out = {}
-        for j in self.indices:
+        for k, j in enumerate(self.indices):
             r = self.spec.requirements[j]
             v = sampled[r.case][r.output]
-            out[j] = smooth_quantile(v, bandwidth(v, self.scales[j]), self.alpha(j))
+            out[j] = smooth_quantile(v, bandwidth(v, inputs.scales[j]), inputs.alpha[k])
         return out
-
-    def rows(self, x, combo, limits) -> Dict[int, jnp.ndarray]:
-        """Per probabilistic requirement, its constraint row s·(q̃ − b)/scale (≤ 0 when met), (1,)."""
-        return {j: jnp.reshape(self.sign[j] * (q - limits[j]) / self.scales[j], (1,))
-                for j, q in self.values(x, combo).items()}

@@ -1,22 +1,32 @@
-"""A requirement spec as a differentiable model of its design vector.
+"""A requirement spec as a differentiable model: static structure plus explicit inputs.
 
-:class:`DesignModel` turns a validated :class:`~diffsense.design.spec.Spec` into pure JAX functions of
+:class:`DesignModel` turns a validated :class:`~diffsense.design.spec.Spec` into pure JAX
+functions whose only arguments are arrays:
 
-* ``x`` — the continuous and integer design variables in their own units (a vector, in the
-  order of ``spec.variables``), and
-* ``combo`` — one row of the catalog table: the values of every parameter set by a catalog
-  choice (a vector; the model enumerates all combinations of catalog options),
+* ``values`` — the input vector of every chain parameter (:mod:`diffsense.design.layout`);
+* θ — :class:`~diffsense.design.inputs.DesignInputs` for an evaluation and
+  :class:`~diffsense.design.inputs.SolveInputs` for a solve: the catalog cost, objective weights,
+  requirement scales and limits, the interval requirements' boxes and slots, the chance
+  constraints' sample, and the stage of the solve;
+* ``x`` — the design variables in their own units, in the order of ``spec.variables``, written
+  into the input vector together with a catalog row.
 
-returning each case's chain evaluation, the requirement outputs, normalised constraint
-residuals (≤ 0 when met) and the objective. The requirement limits are a separate argument
-(``limits``) so that an optimum can be differentiated with respect to them.
+The model itself holds only what a compiled program depends on — the scenes, the layout of the
+input vector, the variable set, the requirement kinds — and the spec's numbers as NumPy arrays
+to build θ from (:meth:`DesignModel.inputs`, :meth:`DesignModel.solve_inputs`). It never changes
+after construction, and its traced functions read no value from it, so a program compiled for
+one spec serves every spec of the same structure (:mod:`diffsense.design.programs`).
 
-The functions the optimiser differentiates (:meth:`DesignModel.residuals`,
-:meth:`DesignModel.objective`) evaluate each case with ``wanted`` = the outputs they read
-(:attr:`DesignModel.requirement_outputs`, :attr:`DesignModel.objective_outputs`), so the chains
-leave out the root finds and detection series nobody asked for (see
-:class:`diffsense.sensors.chain.Chain`); the values are those of the full evaluation. Reports
-(:meth:`DesignModel.evaluate_all`) evaluate every output.
+Requirements come in three kinds behind one protocol (:mod:`diffsense.design.kinds`): a *point*
+requirement is one output of one case (one constraint row), an *interval* requirement its worst
+value over a box of parameters (one row per slot, :mod:`diffsense.design.intervals`), a *chance*
+requirement a smoothed quantile over uncertain inputs (one row, :mod:`diffsense.design.chance`).
+Each row is s·(v − b)/scale ≤ 0 (s = −1 for ``at_least``, +1 otherwise; = 0 for ``equals``),
+``scale`` 1 for requirements in dB, degrees or plain numbers and |b| otherwise.
+
+The functions the optimiser differentiates evaluate each case with ``wanted`` = the outputs
+they read, so the chains leave out the root finds and detection series nobody asked for (see
+:class:`diffsense.sensors.chain.Chain`); the values are those of the full evaluation.
 """
 
 from __future__ import annotations
@@ -29,11 +39,14 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from diffsense.sensors.chain import Evaluation
-from diffsense.scene import complete_parameters, chain_for
 from diffsense.design.chance import ChanceRequirements
+from diffsense.design.inputs import DesignInputs, SolveInputs, Stage
 from diffsense.design.intervals import IntervalRequirements
+from diffsense.design.kinds import RequirementKinds
+from diffsense.design.layout import InputLayout
 from diffsense.design.spec import Spec
+from diffsense.scene import chain_for
+from diffsense.sensors.chain import Evaluation
 
 # units in which a difference of 1 is a natural step (no normalisation by the limit)
 _ABSOLUTE_UNITS = {"dB", "deg", "1"}
@@ -49,12 +62,23 @@ class Combination:
     cost: float
 
 
-class DesignModel:
-    """Pure functions of the design for one spec (see the module docstring).
+def requirement_scales(requirements) -> np.ndarray:
+    """Each requirement's scale: 1 in dB, degrees or plain numbers, else max(|limit|, 1e-300)."""
+    return np.array([1.0 if r.unit in _ABSOLUTE_UNITS else max(abs(r.limit), 1e-300) for r in requirements],
+                    dtype=float)
 
+
+class DesignModel:
+    """Pure functions of a spec's design (module docstring).
+
+    Host-side data (NumPy): ``lower``/``upper``/``initial`` of the variables, ``combo_table``
+    (one row per catalog combination: its parameter values, then its cost), ``limits`` and
+    ``scales`` of the requirements, ``fixed`` (per case, every fixed parameter's value).
+    Structure: ``variable_names``, ``log_scale``, ``integer``, ``combo_params``,
+    ``requirements``, ``sign``, ``is_equality``, ``row_owner`` (the requirement of each
+    constraint row), ``layout`` (the input vector), ``kinds`` (the requirement kinds).
     ``requirement_outputs`` and ``objective_outputs`` map each case to the frozenset of its
-    outputs that the requirements (resp. the objective terms) read; a case whose outputs are
-    not read is absent.
+    outputs that the point requirements (resp. the objective terms) read.
     """
 
     def __init__(self, spec: Spec):
@@ -88,56 +112,37 @@ class DesignModel:
 
         self.requirements = list(spec.requirements)
         self.limits = np.array([r.limit for r in self.requirements], dtype=float)
-        self.scales = np.array([1.0 if r.unit in _ABSOLUTE_UNITS else max(abs(r.limit), 1e-300)
-                                for r in self.requirements], dtype=float)
+        self.scales = requirement_scales(self.requirements)
         self.is_equality = np.array([r.sense == "equals" for r in self.requirements], dtype=bool)
         self.sign = np.array([-1.0 if r.sense == "at_least" else 1.0 for r in self.requirements], dtype=float)
-        # requirements over intervals (semi-infinite): one constraint row per worst point kept
-        self.intervals = IntervalRequirements(spec, self.parameters, self.sign, self.scales)
-        # requirements with a probability (chance constraints): one row each, a smoothed quantile
-        self.chance = ChanceRequirements(spec, self.parameters, self.sign, self.scales)
-        #: the requirement each constraint row of :meth:`residuals` belongs to
-        self.row_owner = np.concatenate([np.full(r.over_worst if r.over else 1, j, dtype=int)
-                                         for j, r in enumerate(self.requirements)]) if self.requirements \
-            else np.zeros((0,), dtype=int)
+        self.intervals = IntervalRequirements(spec, self.sign)
+        self.chance = ChanceRequirements(spec, self.sign)
+        self.kinds = RequirementKinds(self)
+        #: the requirement each constraint row belongs to, and whether the row is an equality
+        self.row_owner = self.kinds.row_owner
         self.row_is_equality = self.is_equality[self.row_owner]
 
-        # fixed parameters per case, completed with defaults (validated once, concretely)
-        self.fixed = {}
-        for case, scene in spec.scenes.items():
-            chain = chain_for(scene)
-            table = chain.parameters(scene)
-            sample = dict(spec.fixed[case])
-            for i, n in enumerate(self.variable_names):
-                if n in table:
-                    sample[n] = float(self.initial[i])
-            for j, n in enumerate(self.combo_params):
-                if n in table:
-                    sample[n] = float(self.combo_table[0, j])
-            complete = complete_parameters(scene, sample)
-            self.fixed[case] = {k: v for k, v in complete.items()
-                                if k not in self.variable_names and k not in self.combo_params}
-        # outputs read per case (case -> frozenset of output names): by the requirements, by the objective
-        self.requirement_outputs: Dict[str, FrozenSet[str]] = self._outputs_by_case(
-            (r.case, r.output) for r in self.requirements if not r.over)
-        # objective terms resolved once: (source, case, name, weight), source one of "cost",
-        # "variable", "combo", "output", "fixed"
-        self._objective_terms = [self._objective_term(name) + (weight,) for name, weight in spec.objective.terms]
+        self.layout = InputLayout(spec, self.variable_names, self.combo_params)
+        self.fixed: Dict[str, Dict[str, float]] = {c: {} for c in spec.scenes}
+        for inp in self.layout.inputs:
+            if inp.kind == "fixed":
+                for c in inp.cases:
+                    self.fixed[c][inp.param] = inp.value
+        self.requirement_outputs: Dict[str, FrozenSet[str]] = self.kinds.point_outputs()
+        # objective terms resolved once: (source, case, name), source one of "cost", "variable",
+        # "combo", "output", "fixed"; their weights are inputs (DesignInputs.weights)
+        self.objective_terms = [self.objective_term(name) for name, _ in spec.objective.terms]
+        self.objective_weights = np.array([w for _, w in spec.objective.terms], dtype=float)
         self.objective_outputs: Dict[str, FrozenSet[str]] = self._outputs_by_case(
-            (case, base) for source, case, base, _ in self._objective_terms if source == "output")
-        # objective normalisation: its magnitude at the initial design of the first combination
-        self._objective_scale = 1.0
-        self._evaluate_all = None
-        f0 = float(jax.jit(self.raw_objective)(jnp.asarray(self.initial), jnp.asarray(self.combo_table[0])))
-        self._objective_scale = max(abs(f0), 1e-300) if np.isfinite(f0) and f0 != 0 else 1.0
+            (case, base) for source, case, base in self.objective_terms if source == "output")
+        self._programs = None
 
     @staticmethod
     def _outputs_by_case(pairs) -> Dict[str, FrozenSet[str]]:
-        """``{case: frozenset(outputs)}`` from ``(case, output)`` pairs (``None`` pairs skipped)."""
+        """``{case: frozenset(outputs)}`` from ``(case, output)`` pairs."""
         out: Dict[str, set] = {}
-        for pair in pairs:
-            if pair is not None:
-                out.setdefault(pair[0], set()).add(pair[1])
+        for case, name in pairs:
+            out.setdefault(case, set()).add(name)
         return {case: frozenset(names) for case, names in out.items()}
 
     def objective_term(self, name):
@@ -155,33 +160,77 @@ class DesignModel:
             return "output", case, base
         return "fixed", case, base
 
-    _objective_term = objective_term  # former private name
+    # --- structure ---------------------------------------------------------------------------
+    def structure(self) -> tuple:
+        """Everything a compiled program of this model depends on, as a hashable tuple of plain
+        values: scenes, input layout, variables, requirements (kinds, outputs, senses, boxes'
+        parameters and grids, slots), objective terms, uncertain inputs. Numbers a user may edit
+        (values, bounds, limits, weights, costs, boxes) are not in it: they are inputs."""
+        spec = self.spec
+        scenes = tuple((c, s.sensor, tuple(sorted(s.parts)), tuple((k, repr(v)) for k, v in s.options))
+                       for c, s in spec.scenes.items())
+        reqs = tuple((r.case, r.output, r.sense, tuple(iv.parameter for iv in r.over),
+                      self.intervals.boxes[j].counts if r.over else (), r.over_worst if r.over else 0,
+                      r.probability is not None) for j, r in enumerate(self.requirements))
+        unc = spec.uncertain
+        uncertain = () if unc is None else (tuple((d.parameter, d.kind) for d in unc.distributions), unc.samples)
+        return ("design-model", scenes, self.layout.structure, tuple(self.variable_names),
+                tuple(bool(b) for b in self.log_scale), tuple(bool(b) for b in self.integer),
+                tuple(self.combo_params), reqs, tuple(self.objective_terms), float(spec.objective.sign), uncertain)
 
-    # --- evaluation --------------------------------------------------------------------------
-    def parameters(self, x, combo) -> Dict[str, Dict[str, jnp.ndarray]]:
-        """Per case, the full parameter dict for design ``x`` and catalog row ``combo``."""
-        out = {}
-        for case, scene in self.spec.scenes.items():
-            table = self.spec.parameters[case]
-            p = dict(self.fixed[case])
-            for i, n in enumerate(self.variable_names):
-                if n in table:
-                    p[n] = x[i]
-            for j, n in enumerate(self.combo_params):
-                if n in table:
-                    p[n] = combo[j]
-            out[case] = p
-        return out
+    # --- data ---------------------------------------------------------------------------------
+    def inputs(self, combo_index: int = 0, values=None) -> DesignInputs:
+        """θ of an evaluation at the spec's numbers (NumPy): the input vector ``values`` (default
+        the spec's, with catalog combination ``combo_index`` written in), that combination's cost,
+        and the slots of every interval requirement at its box's far corner (a search replaces
+        them, :meth:`~diffsense.design.programs.Programs.search`)."""
+        if values is None:
+            values = np.asarray(self.layout.values, dtype=float).copy()
+            values[self.layout.catalog_slots] = self.combo_table[combo_index, :-1]
+        iv = self.intervals
+        boxes = [iv.box_data(j) for j in iv.indices]
+        return DesignInputs(
+            values=np.asarray(values, dtype=float), cost=np.asarray(self.combo_table[combo_index, -1], dtype=float),
+            weights=self.objective_weights.copy(), scales=self.scales.copy(),
+            box=(tuple(b[0] for b in boxes), tuple(b[1] for b in boxes), tuple(b[2] for b in boxes)),
+            points=tuple(iv.initial_points(j) for j in iv.indices),
+            sample=self.chance.sample(), spreads=self.chance.spreads(), alpha=self.chance.alphas())
 
-    def evaluate(self, x, combo, wanted: Optional[Mapping[str, FrozenSet[str]]] = None) -> Dict[str, Evaluation]:
-        """Each case's chain evaluation at design ``x`` and catalog row ``combo``.
+    def stage(self, canonical: bool = False, objective_cap: float = 0.0, inactive=None) -> Stage:
+        """A :class:`Stage` (NumPy): the design problem by default."""
+        m = int((~self.row_is_equality).sum())
+        inactive = np.zeros(m, dtype=bool) if inactive is None else np.asarray(inactive, dtype=bool)
+        return Stage(np.asarray(bool(canonical)), np.asarray(float(objective_cap)), inactive)
+
+    def solve_inputs(self, design: DesignInputs, combo_index: int, limits, objective_scale: float,
+                     stage: Optional[Stage] = None) -> SolveInputs:
+        """θ of one solve (NumPy) for catalog combination ``combo_index``."""
+        design = design._replace(cost=np.asarray(self.combo_table[combo_index, -1], dtype=float))
+        return SolveInputs(design, np.asarray(self.combo_table[combo_index, :-1], dtype=float),
+                           np.asarray(limits, dtype=float), np.asarray(objective_scale, dtype=float),
+                           self.stage() if stage is None else stage)
+
+    def design_values(self, x, combo_index: int) -> np.ndarray:
+        """The input vector (NumPy) with design ``x`` and catalog combination ``combo_index``."""
+        values = np.asarray(self.layout.values, dtype=float).copy()
+        values[self.layout.variable_slots] = np.asarray(x, dtype=float)
+        values[self.layout.catalog_slots] = self.combo_table[combo_index, :-1]
+        return values
+
+    # --- traced: evaluation -------------------------------------------------------------------
+    def parameters(self, values) -> Dict[str, Dict[str, jnp.ndarray]]:
+        """Per case, the full parameter dict read from the input vector ``values``."""
+        return self.layout.case_parameters(values)
+
+    def evaluate(self, values, wanted: Optional[Mapping[str, FrozenSet[str]]] = None) -> Dict[str, Evaluation]:
+        """Each case's chain evaluation at input vector ``values``.
 
         ``wanted`` (static): ``None`` evaluates every case with every output; a mapping
         ``{case: frozenset of output names}`` evaluates only the cases it names, each with at
         least those outputs (the chain's ``wanted``, see :class:`diffsense.sensors.chain.Chain`).
         """
         res = {}
-        for case, p in self.parameters(x, combo).items():
+        for case, p in self.parameters(values).items():
             if wanted is not None and case not in wanted:
                 continue
             scene = self.spec.scenes[case]
@@ -189,35 +238,150 @@ class DesignModel:
             res[case] = chain.compute(scene, p) if wanted is None else chain.compute(scene, p, wanted=wanted[case])
         return res
 
-    def requirement_values(self, x, combo, evaluations=None, parameters=None) -> jnp.ndarray:
-        """The requirement outputs (their own units), in spec order; without ``evaluations`` the
-        cases are evaluated for :attr:`requirement_outputs` only. A requirement over an interval
-        gives its worst value found by the search (:mod:`diffsense.design.intervals`);
-        ``parameters`` (per case) replaces :meth:`parameters` for that search."""
-        ev = self.evaluate(x, combo, self.requirement_outputs) if evaluations is None else evaluations
-        worst = self.intervals.worst_values(x, combo, parameters) if self.intervals.indices else {}
-        chance = self.chance.values(x, combo, parameters) if self.chance.indices else {}
-        return jnp.stack([worst[j] if r.over else chance[j] if j in chance
-                          else jnp.asarray(ev[r.case].values[r.output], dtype=float)
-                          for j, r in enumerate(self.requirements)])
+    def evaluate_with_slots(self, values, inputs: DesignInputs, wanted=None):
+        """``(evaluations, slot values)``: each case's chain evaluation at ``values`` and every
+        interval requirement's output at each of its slots (j -> (K_j,)), from **one** batched
+        chain evaluation per case — the case's parameters followed by one point per slot (the
+        slot's ``over`` parameters replaced) — so that a compiled program holds one copy of each
+        case's chain. ``wanted``: as :meth:`evaluate` (None: every output of every case); the
+        interval requirements' outputs are added."""
+        params = self.parameters(values)
+        reqs = self.requirements
+        evaluations, slots = {}, {}
+        for case, p in params.items():
+            ivs = [j for j in self.intervals.indices if reqs[j].case == case]
+            want = None if wanted is None else wanted.get(case)
+            if want is None and wanted is not None and not ivs:
+                continue
+            scene = self.spec.scenes[case]
+            chain = chain_for(scene)
+            if not ivs:
+                evaluations[case] = chain.compute(scene, p) if want is None else chain.compute(scene, p, wanted=want)
+                continue
+            if wanted is not None:
+                want = frozenset(want or ()) | frozenset(reqs[j].output for j in ivs)
+            batch = self._slot_batch(p, ivs, inputs)
 
-    def residuals(self, x, combo, limits) -> jnp.ndarray:
-        """Normalised residuals, one row per point requirement and ``over_worst`` rows per
-        interval requirement (:attr:`row_owner`): ≤ 0 when an inequality is met, = 0 when an
-        equality is met."""
-        ev = self.evaluate(x, combo, self.requirement_outputs) if self.requirement_outputs else {}
-        rows = self.intervals.rows(x, combo, limits) if self.intervals.indices else {}
-        chance = self.chance.rows(x, combo, limits) if self.chance.indices else {}
-        out = []
-        for j, r in enumerate(self.requirements):
-            if r.over:
-                out.append(rows[j])
-            elif j in chance:
-                out.append(chance[j])
+            def at(q, p=p, scene=scene, chain=chain, want=want):
+                full = {**p, **q}
+                return chain.compute(scene, full) if want is None else chain.compute(scene, full, wanted=want)
+
+            # only the ``over`` parameters are batched: what does not depend on them (a required
+            # SNR, a received pulse width, ...) is computed once, not once per slot
+            ev = jax.vmap(at)(batch)
+            if wanted is None or case in wanted:
+                evaluations[case] = jax.tree_util.tree_map(lambda a: a[0], ev)
+            start = 1
+            for j in ivs:
+                k = self.intervals.slots(j)
+                slots[j] = jnp.asarray(ev.values[reqs[j].output], dtype=float)[start:start + k]
+                start += k
+        return evaluations, slots
+
+    def _slot_batch(self, params: dict, ivs, inputs: DesignInputs) -> dict:
+        """The ``over`` parameters of requirements ``ivs`` (all of one case) at the case's own
+        values (row 0) and at each slot (one row per slot, the parameters a slot's requirement
+        does not vary at the case's values)."""
+        names = []
+        for j in ivs:
+            names += [iv.parameter for iv in self.requirements[j].over if iv.parameter not in names]
+        columns = {name: [jnp.reshape(jnp.asarray(params[name], dtype=float), (1,))] for name in names}
+        for j in ivs:
+            pts = jnp.asarray(inputs.points[self.intervals.indices.index(j)], dtype=float)
+            over = [iv.parameter for iv in self.requirements[j].over]
+            for name in names:
+                col = pts[:, over.index(name)] if name in over else jnp.broadcast_to(
+                    jnp.asarray(params[name], dtype=float), (pts.shape[0],))
+                columns[name].append(col)
+        return {name: jnp.concatenate(parts) for name, parts in columns.items()}
+
+    def row_values(self, values, inputs: DesignInputs, evaluations=None, slots=None) -> jnp.ndarray:
+        """The value behind each constraint row in the requirement's unit (:attr:`row_owner`
+        order): a point requirement's output, an interval requirement's output at each slot, a
+        chance requirement's smoothed quantile. Without ``evaluations`` (and ``slots``) the cases
+        are evaluated for :attr:`requirement_outputs` only (:meth:`evaluate_with_slots`)."""
+        if evaluations is None:
+            evaluations, slots = self.evaluate_with_slots(values, inputs, dict(self.requirement_outputs))
+        return self.kinds.row_values(self.parameters(values), evaluations, slots or {}, inputs)
+
+    def requirement_values(self, rows) -> jnp.ndarray:
+        """Each requirement's value from its rows (:meth:`row_values`): the worst of them (the
+        smallest for ``at_least``, the largest otherwise)."""
+        return self.kinds.worst(rows)
+
+    def objective_value(self, values, inputs: DesignInputs, evaluations=None) -> jnp.ndarray:
+        """The objective as the spec states it: Σ weight · term (a maximised objective not
+        negated). Without ``evaluations`` the cases are evaluated for :attr:`objective_outputs`."""
+        if evaluations is None and self.objective_outputs:
+            evaluations = self.evaluate(values, self.objective_outputs)
+        return self.weighted_terms(self.objective_terms, inputs.weights, values, inputs.cost, evaluations)
+
+    def weighted_terms(self, terms, weights, values, cost, evaluations) -> jnp.ndarray:
+        """Σ weight · value over objective terms ``(source, case, base)``: the catalog cost, a
+        design variable, a catalog parameter, a case's output (from ``evaluations``) or a fixed
+        parameter (from the input vector)."""
+        total = jnp.asarray(0.0)
+        for k, (source, case, base) in enumerate(terms):
+            if source == "cost":
+                val = cost
+            elif source == "output":
+                val = evaluations[case].values[base]
+            elif source in ("variable", "combo"):
+                val = values[self.layout.index(base)]
             else:
-                v = jnp.asarray(ev[r.case].values[r.output], dtype=float)
-                out.append(jnp.reshape(self.sign[j] * (v - limits[j]) / self.scales[j], (1,)))
-        return jnp.concatenate(out)
+                val = values[self.layout.slot(base, case)]
+            total = total + weights[k] * val
+        return total
+
+    def evaluation(self, values, inputs: DesignInputs):
+        """``(evaluations, row values, requirement values, objective)`` with every output of every
+        case: what reports and the explorer show (the objective as the spec states it)."""
+        ev, slots = self.evaluate_with_slots(values, inputs)
+        rows = self.row_values(values, inputs, ev, slots)
+        return ev, rows, self.requirement_values(rows), self.objective_value(values, inputs, ev)
+
+    def design_functions(self, values, inputs: DesignInputs):
+        """``(row values, objective)`` for a solve, from one evaluation of the outputs the
+        requirements and the objective read (:meth:`evaluate_with_slots`)."""
+        wanted = dict(self.requirement_outputs)
+        for case, names in self.objective_outputs.items():
+            wanted[case] = wanted.get(case, frozenset()) | names
+        ev, slots = self.evaluate_with_slots(values, inputs, wanted)
+        return self.row_values(values, inputs, ev, slots), self.objective_value(values, inputs, ev)
+
+    # --- traced: the design problem -----------------------------------------------------------
+    def solve_values(self, x, s: SolveInputs):
+        """The input vector of a solve: ``s``'s vector with the design ``x`` and its catalog row."""
+        return self.layout.with_design(s.design.values, x, s.catalog)
+
+    def residuals_and_objective(self, x, s: SolveInputs):
+        """(normalised residuals, normalised objective) of a solve at design ``x``: the rows
+        s·(v − b)/scale (≤ 0 when an inequality is met, = 0 when an equality is met;
+        :attr:`row_owner` order) and the spec's objective, maximisation negated, divided by
+        ``s.objective_scale``; one evaluation of the chains."""
+        rows, value = self.design_functions(self.solve_values(x, s), s.design)
+        owner = self.row_owner
+        residuals = jnp.asarray(self.sign[owner]) * (rows - s.limits[owner]) / s.design.scales[owner]
+        return residuals, self.spec.objective.sign * value / s.objective_scale
+
+    def residuals(self, x, s: SolveInputs) -> jnp.ndarray:
+        """The normalised residuals of :meth:`residuals_and_objective`."""
+        return self.residuals_and_objective(x, s)[0]
+
+    def objective(self, x, s: SolveInputs) -> jnp.ndarray:
+        """The normalised objective of :meth:`residuals_and_objective`."""
+        value = self.objective_value(self.solve_values(x, s), s.design)
+        return self.spec.objective.sign * value / s.objective_scale
+
+    # --- host side ----------------------------------------------------------------------------
+    @property
+    def programs(self):
+        """The compiled programs of this model (:class:`~diffsense.design.programs.Programs`)."""
+        if self._programs is None:
+            from diffsense.design.programs import Programs
+
+            self._programs = Programs(self)
+        return self._programs
 
     def row_multipliers(self, row_lam) -> np.ndarray:
         """Per requirement, the sum of the multipliers of its constraint rows."""
@@ -225,67 +389,25 @@ class DesignModel:
         np.add.at(out, self.row_owner, np.asarray(row_lam, dtype=float))
         return out
 
-    def raw_objective(self, x, combo, evaluations=None) -> jnp.ndarray:
-        """Objective in the spec's own terms (weighted sum; maximisation negated); without
-        ``evaluations`` the cases are evaluated for :attr:`objective_outputs` only."""
-        ev = evaluations
-        if ev is None and any(t[0] == "output" for t in self._objective_terms):
-            ev = self.evaluate(x, combo, self.objective_outputs)
-        return self.spec.objective.sign * self.weighted_terms(self._objective_terms, x, combo, ev)
-
-    def weighted_terms(self, terms, x, combo, evaluations) -> jnp.ndarray:
-        """Σ weight · value over objective terms ``(source, case, base, weight)``: the catalog
-        cost, a design variable, a catalog parameter, a case's output (from ``evaluations``) or
-        a fixed parameter."""
-        total = jnp.asarray(0.0)
-        for source, case, base, weight in terms:
-            if source == "cost":
-                val = combo[-1]
-            elif source == "variable":
-                val = x[self.variable_names.index(base)]
-            elif source == "combo":
-                val = combo[self.combo_params.index(base)]
-            elif source == "output":
-                val = evaluations[case].values[base]
-            else:
-                val = self.fixed[case][base]
-            total = total + weight * val
-        return total
-
-    def objective(self, x, combo) -> jnp.ndarray:
-        """Normalised objective (≈ ±1 at the initial design) to be minimised."""
-        return self.raw_objective(x, combo) / self._objective_scale
-
-    def _evaluate_all_jit(self):
-        if self._evaluate_all is None:
-            def run(x, combo):
-                ev = self.evaluate(x, combo)
-                return ev, self.requirement_values(x, combo, ev), self.raw_objective(x, combo, ev)
-            self._evaluate_all = jax.jit(run)
-        return self._evaluate_all
-
-    def forget_compiled(self) -> None:
-        """Drop the compiled evaluation (after the interval search's candidates changed)."""
-        self._evaluate_all = None
-
-    def compile_evaluation(self) -> None:
-        """Trace and compile :meth:`evaluate_all` now (later calls reuse the program); lets a
-        caller compile it while another thread compiles something else."""
-        dtype = jnp.result_type(float)
-        self._evaluate_all_jit().lower(jax.ShapeDtypeStruct((len(self.variable_names),), dtype),
-                                       jax.ShapeDtypeStruct((self.combo_table.shape[1],), dtype)).compile()
+    def inequality_multipliers(self, lam) -> np.ndarray:
+        """Per requirement, the multipliers of a solve's inequality rows (``lam``, the solver's
+        order: the inequality rows of :attr:`row_owner`) summed over each requirement's rows."""
+        row_lam = np.zeros(self.row_owner.size)
+        ineq = ~self.row_is_equality
+        row_lam[ineq] = np.asarray(lam, dtype=float)[: int(ineq.sum())]
+        return self.row_multipliers(row_lam)
 
     def evaluate_all(self, x, combo):
-        """``(evaluations, requirement_values, raw_objective)`` at one design, compiled once per
-        model. Re-evaluating designs through this is far cheaper than eager evaluation, whose
-        root-finding and series loops would each be compiled again on every call."""
-        return self._evaluate_all_jit()(jnp.asarray(x, dtype=float), jnp.asarray(combo, dtype=float))
+        """``(evaluations, requirement_values, raw_objective)`` at design ``x`` with catalog row
+        ``combo`` (its parameter values, then its cost), by the compiled programs: every output
+        of every case, interval requirements at the worst points the search finds, and the
+        objective in its minimised form (the spec's value times its sign). NumPy results."""
+        return self.programs.evaluate_design(x, combo)[:3]
 
     def requirement_report(self, x, combo, tol: float = 1e-9) -> List[dict]:
         """Requirement rows {name, output, case, value, limit, unit, sense, met, slack}; an
         interval requirement's value is its worst value on the dense re-check."""
-        values = self.evaluate_all(x, combo)[1]
-        checks = self.intervals.check(x, combo, np.asarray(values)) if self.intervals.indices else {}
+        values, checks = self.programs.checked_values(x, combo)
         return self.requirement_rows(values, tol, checks)
 
     def requirement_rows(self, values, tol: float = 1e-9, checks=None) -> List[dict]:

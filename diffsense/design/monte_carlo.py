@@ -95,8 +95,8 @@ def _program(model: DesignModel, indices):
     reqs = [model.requirements[j] for j in indices]
     cases = sorted({r.case for r in reqs})
 
-    def run(x, combo, u):
-        params = model.parameters(x, combo)
+    def run(values, u):
+        params = model.parameters(values)
         out = {c: sampled_outputs(model.spec, c, params[c], {r.output for r in reqs if r.case == c}, u)
                for c in cases}
         return jnp.stack([out[r.case][r.output] for r in reqs])
@@ -118,13 +118,14 @@ def check_probabilities(model: DesignModel, x, combo, *, samples: Optional[int] 
     u = check_sample(unc, samples, seed)
     n = u.shape[0]
     fn = _program(model, indices)
-    x = jnp.asarray(x, dtype=float)
-    combo = jnp.asarray(combo, dtype=float)
+    values = np.asarray(model.layout.values, dtype=float).copy()
+    values[model.layout.variable_slots] = np.asarray(x, dtype=float)
+    values[model.layout.catalog_slots] = np.asarray(combo, dtype=float)[:-1]
     met = np.zeros(len(indices), dtype=np.int64)
     for start in range(0, n, CHUNK):
         rows = np.arange(start, min(start + CHUNK, n))
         padded = np.concatenate([rows, np.full(CHUNK - rows.size, rows[-1])])
-        v = np.asarray(fn(x, combo, jnp.asarray(u[padded])))[:, : rows.size]
+        v = np.asarray(fn(values, jnp.asarray(u[padded])))[:, : rows.size]
         for k, j in enumerate(indices):
             r = model.requirements[j]
             ok = v[k] >= r.limit if r.sense == "at_least" else v[k] <= r.limit

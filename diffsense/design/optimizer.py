@@ -1,14 +1,13 @@
 """Optimise a requirement spec: catalog choices, integer relaxation and multi-start.
 
-Steps (all catalog combinations and all starts run in one compiled call each):
+Steps (every solve a lane of one compiled program, :meth:`Programs.lanes`):
 
 1. **Continuous relaxation.** For every catalog combination and every start (the spec's
    initial design plus seeded Latin-hypercube points in the scaled box), minimise the
-   normalised objective subject to the requirements with
-   :func:`diffsense.optimize.solve` (augmented Lagrangian, bounds never violated). The
-   requirements are tightened by a small ``margin`` (scaled units) so that the answer meets
-   them when re-evaluated, not only to the solver's tolerance. The best start of each
-   combination goes on (:func:`diffsense.optimize.lanes.best_per_group`).
+   normalised objective subject to the requirements with the augmented Lagrangian (bounds
+   never violated). The requirements are tightened by a small ``margin`` (scaled units) so
+   that the answer meets them when re-evaluated, not only to the solver's tolerance. The best
+   start of each combination goes on (:func:`diffsense.optimize.lanes.best_per_group`).
 2. **Integers.** Integer variables of the best relaxed answer of each combination are rounded
    to their floor/ceil neighbours and the continuous rest is re-solved with the integers
    pinned (:func:`diffsense.optimize.integer.integer_neighbours`); the best feasible
@@ -25,22 +24,18 @@ Steps (all catalog combinations and all starts run in one compiled call each):
    the most robust design of the optimal set is returned instead of an arbitrary one
    (:mod:`diffsense.design.canonical`), and ``canonical`` says so.
 
-Requirements over intervals (:mod:`diffsense.design.intervals`) add step 3b, the exchange
-method: a worse point found by the dense re-check joins the search and the answers are re-solved.
+Requirements over intervals (:mod:`diffsense.design.intervals`) are solved by the exchange
+method: every lane starts with the worst points a search finds at its start; after each solve
+the search looks again at the answer, and a lane whose answer misses a worse point than its
+slots hold is solved again from there with the new points (up to :data:`SEARCH_ROUNDS` times).
+Step 3b: a worse point found by the dense re-check joins the slots and the answers are re-solved.
 
-**Lanes.** Every (start, combination) pair is one lane of :mod:`diffsense.optimize.lanes`: θ
-carries the catalog row and the requirement limits, the box pins the integers in step 2, and
-every step's lanes go through the first step's compiled program, in calls of as many lanes as
-the first step has. ``lockstep`` sets how many lanes run in one ``jax.vmap`` (module
-docstring of :mod:`diffsense.optimize.lanes`): "auto" (default) one after another on CPU and
-all in one vmap on an accelerator; a value equal to the number of combinations solves each
-start's catalog options in one vmap.
-
-**Compilation.** The first step's solve is traced, then compiled in a background thread
-while the model's evaluation program (the requirement reports of step 3) is traced and
-compiled in this one (:func:`diffsense.optimize.compile.call_compiling_alongside`): XLA
-compiles without holding Python's global interpreter lock, so the two compilations share the
-cores.
+**One program.** Every step's lanes — relaxation, neighbours, near misses, exchange rounds,
+the canonical stage and the linearisations it needs — go through the same compiled lane
+program, in calls of a fixed number of lanes (:func:`lane_batch`; the last call padded), with
+everything that differs between steps (catalog row, limits, slots, boxes, the stage) passed as
+data (:class:`~diffsense.design.inputs.SolveInputs`). The programs compile in background
+threads while this one traces the next.
 """
 
 from __future__ import annotations
@@ -48,18 +43,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import List, NamedTuple, Optional, Union
 
-import jax
-import jax.numpy as jnp
 import numpy as np
 
 from diffsense.design.canonical import canonical_optimum
 from diffsense.design.model import DesignModel
-from diffsense.optimize import Problem, SolverOptions
-from diffsense.optimize.compile import jit_with_options
-from diffsense.optimize.distributed import solve_across_processes
+from diffsense.design.programs import rows_of, stack, with_extra_point
+from diffsense.design.runner import Lanes, Runner, bounds_problem, objective_scale
+from diffsense.optimize import SolverOptions
 from diffsense.optimize.integer import integer_neighbours
-from diffsense.optimize.lanes import Lanes, best_per_group, lane_program, pin_variables, solve_in_batches
-from diffsense.optimize.lanes import lane_grid as grid_of_lanes
+from diffsense.optimize.lanes import best_per_group, pin_variables
 from diffsense.optimize.multistart import start_points
 
 
@@ -81,43 +73,6 @@ class DesignOptimum:
     canonical: Optional[dict] = None  # the second stage's choice when the optimum is not unique
 
 
-def build_problem(model: DesignModel) -> Problem:
-    """The optimiser's :class:`Problem` for ``model``.
-
-    θ = (catalog row, requirement limits, design vector, pinned mask). Variables whose mask is
-    True keep their value from θ's design vector whatever the solver's iterate says (the
-    objective and constraints do not depend on them, so the solver leaves them alone): a way to
-    hold variables in a single solve without changing the box. :func:`optimize_design` pins
-    its integers through the box instead (its lanes take the box as an argument) and leaves the
-    mask False.
-    """
-    ineq = ~model.row_is_equality
-    eq = model.row_is_equality
-    # jitted once: the solver calls these from several places (the inner solve, the outer
-    # linearisation, the problem's size check); JAX traces a jitted function once per signature
-    # and reuses it at every call site, which shortens the time to trace the solve
-    # (fresh closures, not the bound methods: JAX caches traces by function, and a model's
-    # interval search gains candidates between solves, see _exchange)
-    residuals = jax.jit(lambda x, combo, limits: model.residuals(x, combo, limits))
-    objective_fn = jax.jit(lambda x, combo: model.objective(x, combo))
-
-    def full(x, theta):
-        return jnp.where(theta[3], theta[2], x)
-
-    def objective(x, theta):
-        return objective_fn(full(x, theta), theta[0])
-
-    def inequality(x, theta):
-        return residuals(full(x, theta), theta[0], theta[1])[ineq]
-
-    def equality(x, theta):
-        return residuals(full(x, theta), theta[0], theta[1])[eq]
-
-    return Problem(objective, model.lower, model.upper, inequality=inequality if ineq.any() else None,
-                   equality=equality if eq.any() else None, log_scale=model.log_scale, integer=model.integer,
-                   names=list(model.variable_names))
-
-
 def tight_limits(model: DesignModel, margin: float) -> np.ndarray:
     """The requirement limits with each inequality moved inward by ``margin`` (scaled units:
     ``margin`` × the requirement's scale): an at_least limit up, an at_most limit down, an
@@ -129,161 +84,137 @@ def tight_limits(model: DesignModel, margin: float) -> np.ndarray:
 _tight_limits = tight_limits  # former private name
 
 
+class _Answers(NamedTuple):
+    """The current answer of each catalog combination (rows: combinations) and its θ."""
+
+    x: np.ndarray
+    converged: np.ndarray
+    lam: np.ndarray
+    theta: object
+
+
+def _starts(model: DesignModel, n_starts: int, seed: int) -> np.ndarray:
+    """The spec's initial design and n_starts − 1 seeded Latin-hypercube points."""
+    starts = model.initial[None, :]
+    if n_starts > 1:
+        starts = np.vstack([starts, start_points(bounds_problem(model), n_starts - 1, seed=seed, method="lhs")])
+    return starts
+
+
+def _thetas(model: DesignModel, base, combos, limits, objective_scale: float):
+    """θ of lanes of catalog combinations ``combos`` (a batch of :class:`SolveInputs`)."""
+    limits = np.broadcast_to(limits, (len(combos), len(model.requirements)))
+    return stack([model.solve_inputs(base, int(c), limits[i], objective_scale) for i, c in enumerate(combos)])
+
+
+def _relax(model: DesignModel, run: Runner, starts, base, limits, objective_scale):
+    """Step 1: every (start, combination) lane, start-major; returns (lanes, results, answers)."""
+    C = len(model.combinations)
+    x0 = np.repeat(starts, C, axis=0)
+    combos = np.tile(np.arange(C), starts.shape[0])
+    lower, upper = run.boxes(n=x0.shape[0])
+    theta = _thetas(model, base, combos, limits, objective_scale)
+    theta, _ = run.search_points(x0, theta, combos)
+    lanes, res = run.settle(Lanes(x0, theta, lower, upper, combos))
+    rows, _ = best_per_group(res, combos, C)
+    return lanes, res, _Answers(res.x[rows].copy(), res.converged[rows].copy(), res.lam[rows].copy(),
+                                rows_of(lanes.theta, rows))
+
+
+def _round_integers(model: DesignModel, run: Runner, best: _Answers) -> _Answers:
+    """Step 2: the best feasible integer neighbour of each combination's answer, or the answer
+    with its integers rounded when no neighbour is feasible."""
+    if not model.integer.any():
+        return best
+    cand = integer_neighbours(bounds_problem(model), best.x)
+    lower, upper = run.boxes(cand.lower, cand.upper, n=cand.x0.shape[0])
+    lanes = Lanes(cand.x0, rows_of(best.theta, cand.group), lower, upper, cand.group)
+    lanes, res = run.settle(lanes)
+    rows, found = best_per_group(res, cand.group, len(model.combinations))
+    x, conv, lam = best.x.copy(), best.converged.copy(), best.lam.copy()
+    x[found], conv[found], lam[found] = res.x[rows[found]], res.converged[rows[found]], res.lam[rows[found]]
+    x[~found] = np.where(model.integer, np.round(x[~found]), x[~found])
+    theta = stack([rows_of(lanes.theta, rows[c]) if found[c] else rows_of(best.theta, c)
+                   for c in range(len(model.combinations))])
+    return _Answers(x, conv, lam, theta)
+
+
 def _scaled_misses(model: DesignModel, report) -> np.ndarray:
     """Per requirement, by how much (scaled units) a requirement report misses it; 0 when met."""
     return np.array([max(-r["slack"], 0.0) / scale for r, scale in zip(report, model.scales)])
 
 
-def lane_solver(problem: Problem, options: SolverOptions, lockstep: Union[int, str, None]):
-    """One jitted call ``fn(x0, catalog rows, limits, lower, upper)`` solving rows of lanes:
-    :func:`diffsense.optimize.lanes.lane_program` with θ = (catalog row, limits, x0, nothing
-    pinned) per row and the row's box, ``lockstep`` rows per vmap. The row count must be a
-    multiple of a lockstep count."""
-    program = lane_program(problem, options, lockstep)
-
-    def run(x0, combos, limits, lower, upper):
-        return program(x0, (combos, limits, x0, jnp.zeros(x0.shape, dtype=bool)), lower, upper)
-
-    return jit_with_options(run, "optimized")
-
-
-def _lanes(model: DesignModel, x0, combo_index, limits, lower=None, upper=None) -> Lanes:
-    """Lanes from starts ``x0`` (L, n), the catalog combination of each, limits (L, r) or (r,)
-    and boxes (default the model's), θ = (catalog row, limits) as :func:`lane_solver` takes it."""
-    x0 = np.asarray(x0, dtype=float)
-    combo_index = np.asarray(combo_index, dtype=int)
-    limits = np.broadcast_to(limits, (x0.shape[0], np.shape(limits)[-1]))
-    lower = np.broadcast_to(model.lower if lower is None else lower, x0.shape)
-    upper = np.broadcast_to(model.upper if upper is None else upper, x0.shape)
-    return Lanes(x0, (model.combo_table[combo_index], limits), lower, upper, combo_index)
-
-
-def _columns(lanes: Lanes):
-    """The arguments of :func:`lane_solver` for ``lanes``."""
-    return lanes.x0, lanes.theta[0], lanes.theta[1], lanes.lower, lanes.upper
-
-
-def _grid(model: DesignModel, starts, limits) -> Lanes:
-    """Every (start, combination) lane, start-major, each combination a group."""
-    grid = grid_of_lanes(starts, None, lower=model.lower, upper=model.upper, n_groups=len(model.combinations))
-    return _lanes(model, grid.x0, grid.group, limits)
-
-
-def lane_grid(model: DesignModel, starts: np.ndarray, limits: np.ndarray):
-    """Columns (x0, catalog row, limits, lower, upper) of every (start, combination) lane,
-    start-major: lanes k·n_combo … (k+1)·n_combo − 1 are start k's catalog options."""
-    return _columns(_grid(model, starts, limits))
-
-
-class _Answers(NamedTuple):
-    """The current answer of each catalog combination (rows: combinations)."""
-
-    x: np.ndarray
-    converged: np.ndarray
-    lam: np.ndarray
-
-
-def _starts(model: DesignModel, problem: Problem, n_starts: int, seed: int) -> np.ndarray:
-    """The spec's initial design and n_starts − 1 seeded Latin-hypercube points."""
-    starts = model.initial[None, :]
-    if n_starts > 1:
-        starts = np.vstack([starts, start_points(problem, n_starts - 1, seed=seed, method="lhs")])
-    return starts
-
-
-def _relax(model: DesignModel, solver, starts, limits):
-    """Step 1: every (start, combination) lane; returns (lanes, results, answers per combination)."""
-    lanes = _grid(model, starts, limits)
-    # split across processes when jax.distributed is initialised (diffsense.optimize.distributed);
-    # with one process this is solve_in_batches in one call of every lane
-    res = solve_across_processes(solver, None, *_columns(lanes), alongside=model.compile_evaluation)
-    rows, _ = best_per_group(res, lanes.group, len(model.combinations))
-    return lanes, res, _Answers(res.x[rows].copy(), res.converged[rows].copy(), res.lam[rows].copy())
-
-
-def _round_integers(model: DesignModel, problem: Problem, solver, batch: int, limits, best: _Answers) -> _Answers:
-    """Step 2: the best feasible integer neighbour of each combination's answer, or the answer
-    with its integers rounded when no neighbour is feasible."""
-    if not model.integer.any():
-        return best
-    cand = integer_neighbours(problem, best.x)
-    res = solve_in_batches(solver, batch, *_columns(_lanes(model, cand.x0, cand.group, limits, cand.lower,
-                                                           cand.upper)))
-    rows, found = best_per_group(res, cand.group, len(model.combinations))
-    x, conv, lam = best.x.copy(), best.converged.copy(), best.lam.copy()
-    x[found], conv[found], lam[found] = res.x[rows[found]], res.converged[rows[found]], res.lam[rows[found]]
-    x[~found] = np.where(model.integer, np.round(x[~found]), x[~found])
-    return _Answers(x, conv, lam)
-
-
-def _resolve_near_misses(model: DesignModel, solver, batch: int, limits, best: _Answers):
+def _resolve_near_misses(model: DesignModel, run: Runner, limits, best: _Answers, reports):
     """Step 3: re-solve answers that miss a requirement by at most 1e-3 (scaled) from where they
     stand, integers pinned, with the missed limits tightened by ten times the miss; keep a
     re-solve that misses less. Returns the answers and their requirement reports."""
     x, conv, lam = best.x.copy(), best.converged.copy(), best.lam.copy()
-    reports = [model.requirement_report(x[c], model.combo_table[c]) for c in range(x.shape[0])]
+    theta = best.theta
     for _ in range(3):
         miss = np.array([_scaled_misses(model, rep) for rep in reports])
         near = np.flatnonzero((miss.max(axis=1) > 0) & (miss.max(axis=1) <= 1e-3))
         if near.size == 0:
             break
         tighter = limits[None, :] - model.sign * (10.0 * miss[near]) * model.scales * (~model.is_equality)
-        lower, upper = pin_variables(model.lower, model.upper, x[near], model.integer)
-        res = solve_in_batches(solver, batch, *_columns(_lanes(model, x[near], near, tighter, lower, upper)))
-        for j, c in enumerate(near):
-            rep = model.requirement_report(res.x[j], model.combo_table[c])
-            if _scaled_misses(model, rep).sum() < miss[c].sum():
-                x[c], reports[c], conv[c], lam[c] = res.x[j], rep, res.converged[j], res.lam[j]
-    return _Answers(x, conv, lam), reports
+        lo, hi = pin_variables(model.lower, model.upper, x[near], model.integer)
+        lower, upper = run.boxes(lo, hi, n=near.size)
+        th = rows_of(theta, near)
+        th = th._replace(limits=tighter)
+        _, res = run.settle(Lanes(x[near], th, lower, upper, near))
+        new_reports = model.programs.reports(res.x, near)
+        for k, c in enumerate(near):
+            if _scaled_misses(model, new_reports[k]).sum() < miss[c].sum():
+                x[c], reports[c], conv[c], lam[c] = res.x[k], new_reports[k], res.converged[k], res.lam[k]
+    return _Answers(x, conv, lam, theta), reports
 
 
 def _missed_points(model: DesignModel, reports) -> dict:
-    """Exchange candidates: per interval requirement whose dense re-check (in any combination's
-    report) found a value worse than the solver's own search by more than 1e-9 (scaled), the
-    point where it lies."""
+    """Exchange candidates: per (combination, interval requirement) whose dense re-check found a
+    value worse than the search's by more than 1e-9 (scaled), the point where it lies."""
     found = {}
-    for rep in reports:
+    for c, rep in enumerate(reports):
         for j, row in enumerate(rep):
             if "search_value" not in row:
                 continue
             worse = model.sign[j] * (row["value"] - row["search_value"]) / model.scales[j]
             if worse > 1e-9:
-                found.setdefault(j, []).append([row["worst_at"][iv.parameter] for iv in model.requirements[j].over])
-    return {j: np.asarray(pts) for j, pts in found.items()}
+                found[(c, j)] = np.array([row["worst_at"][iv.parameter] for iv in model.requirements[j].over])
+    return found
 
 
-def _exchange(model: DesignModel, options, lockstep, batch: int, limits, best: _Answers, reports, rounds: int = 2):
-    """Step 3b (exchange method for the interval requirements; Hettich & Kortanek 1993 §7): when
-    the dense re-check finds a worse point than the solver's search, that point joins the search's
-    candidates and every combination is re-solved from its answer, integers pinned; a re-solve is
+def _exchange(model: DesignModel, run: Runner, limits, best: _Answers, reports, rounds: int = 2):
+    """Step 3b (exchange method for the interval requirements; Hettich & Kortanek 1993 §7): a
+    point the dense re-check finds worse than the search's joins that combination's slots and
+    every combination with one is re-solved from its answer, integers pinned; a re-solve is
     kept if it misses less."""
     for _ in range(rounds):
         missed = _missed_points(model, reports)
         if not missed:
             break
-        for j, pts in missed.items():
-            for q in pts:
-                model.intervals.add_candidates({j: q})
-        model.forget_compiled()
-        solver = lane_solver(build_problem(model), options, lockstep)
-        n = best.x.shape[0]
-        lower, upper = pin_variables(model.lower, model.upper, best.x, model.integer)
-        res = solve_in_batches(solver, batch, *_columns(_lanes(model, best.x, np.arange(n), limits, lower, upper)))
+        theta = best.theta
+        designs = [rows_of(theta.design, c) for c in range(best.x.shape[0])]
+        for (c, j), point in missed.items():
+            designs[c] = with_extra_point(model, designs[c], j, point)
+        theta = theta._replace(design=stack(designs))
+        redo = np.array(sorted({c for c, _ in missed}))
+        lo, hi = pin_variables(model.lower, model.upper, best.x[redo], model.integer)
+        lower, upper = run.boxes(lo, hi, n=redo.size)
+        lanes, res = run.settle(Lanes(best.x[redo], rows_of(theta, redo), lower, upper, redo))
+        new_reports = model.programs.reports(res.x, redo)
         x, conv, lam = best.x.copy(), best.converged.copy(), best.lam.copy()
-        for c in range(n):
-            rep = model.requirement_report(res.x[c], model.combo_table[c])
-            if _scaled_misses(model, rep).sum() <= _scaled_misses(model, reports[c]).sum():
-                x[c], reports[c], conv[c], lam[c] = res.x[c], rep, res.converged[c], res.lam[c]
-            else:
-                reports[c] = model.requirement_report(x[c], model.combo_table[c])
-        best = _Answers(x, conv, lam)
-        best, reports = _resolve_near_misses(model, solver, batch, limits, best)
+        kept = [rows_of(theta, c) for c in range(best.x.shape[0])]
+        for k, c in enumerate(redo):
+            kept[c] = rows_of(lanes.theta, k)
+            if _scaled_misses(model, new_reports[k]).sum() <= _scaled_misses(model, reports[c]).sum():
+                x[c], reports[c], conv[c], lam[c] = res.x[k], new_reports[k], res.converged[k], res.lam[k]
+        best = _Answers(x, conv, lam, stack(kept))
+        best, reports = _resolve_near_misses(model, run, limits, best, reports)
     return best, reports
 
 
-def _start_statistics(relaxed, lanes: Lanes, combo: int):
+def _start_statistics(relaxed, combos, combo: int):
     """(starts converged, starts at the best objective) of one combination's relaxed lanes."""
-    mine = lanes.group == combo
+    mine = combos == combo
     f = relaxed.f[mine]
     ok = relaxed.feasible[mine] & relaxed.converged[mine]
     best_f = np.min(np.where(ok, f, np.inf)) if ok.any() else np.inf
@@ -291,22 +222,23 @@ def _start_statistics(relaxed, lanes: Lanes, combo: int):
     return int(ok.sum()), at_best
 
 
-def _choose(model: DesignModel, best: _Answers, reports, relaxed, lanes: Lanes, n_starts: int) -> DesignOptimum:
+def _choose(model: DesignModel, best: _Answers, reports, relaxed, combos, n_starts: int) -> DesignOptimum:
     """Step 4: the combination that meets every requirement at the lowest objective (the one
     that misses least when none does), with its multi-start statistics."""
     n_combo = best.x.shape[0]
     met = np.array([all(r["met"] for r in rep) for rep in reports])
-    raw_obj = np.array([float(model.evaluate_all(best.x[c], model.combo_table[c])[2]) for c in range(n_combo)])
+    V = np.stack([model.design_values(best.x[c], c) for c in range(n_combo)])
+    inputs = stack([model.inputs(c) for c in range(n_combo)])
+    values = model.programs.values_rows(V, per_row_inputs=inputs)
+    sign = model.spec.objective.sign
+    raw_obj = np.asarray(values[3], dtype=float) * sign  # minimised form
     score = np.where(met, raw_obj, np.inf)
     if np.isfinite(score).any():
         k = int(np.argmin(score))
     else:
         k = int(np.argmin([_scaled_misses(model, rep).sum() for rep in reports]))
-    converged, at_best = _start_statistics(relaxed, lanes, k)
-    row_lam = np.zeros(model.row_owner.size)
-    row_lam[~model.row_is_equality] = best.lam[k][: int((~model.row_is_equality).sum())]
-    full_lam = model.row_multipliers(row_lam)
-    sign = model.spec.objective.sign
+    converged, at_best = _start_statistics(relaxed, combos, k)
+    full_lam = model.inequality_multipliers(best.lam[k])
     candidates = [{"options": model.combinations[c].options, "objective": float(raw_obj[c] * sign),
                    "feasible": bool(met[c])} for c in range(n_combo)]
     return DesignOptimum(
@@ -314,6 +246,16 @@ def _choose(model: DesignModel, best: _Answers, reports, relaxed, lanes: Lanes, 
         converged=bool(best.converged[k] and met[k]), feasible=bool(met[k]), multipliers=full_lam,
         starts=n_starts, starts_converged=converged, starts_at_best=at_best,
         unmet=[r["name"] for r in reports[k] if not r["met"]], candidates=candidates)
+
+
+def prepare(model: DesignModel, *, n_starts: int = 8, options: Optional[SolverOptions] = None,
+            lockstep: Union[int, str, None] = "auto") -> Runner:
+    """The lane runner :func:`optimize_design` will use with these settings, its program begun
+    (traced or loaded, compiling in the background): call it early to overlap compilation."""
+    options = options or SolverOptions(polish=False)
+    run = Runner(model, options, lockstep, n_starts * len(model.combinations))
+    run.program.start()
+    return run
 
 
 def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, margin: float = 1e-7,
@@ -324,24 +266,31 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
     ``canonical``: when the optimum is not unique, move to the most robust point of the optimal
     set (:mod:`diffsense.design.canonical`; step 5) and record the rule in ``canonical``.
 
-    ``lockstep``: lanes per vmap (module docstring): "auto" picks by backend, None puts every
-    lane of a step in one vmap, a positive count must divide the number of lanes."""
-    problem = build_problem(model)
-    solver = lane_solver(problem, options or SolverOptions(polish=False), lockstep)
-    limits = _tight_limits(model, margin)
-    starts = _starts(model, problem, n_starts, seed)
-    lanes, relaxed, best = _relax(model, solver, starts, limits)
-    batch = lanes.x0.shape[0]
-    best = _round_integers(model, problem, solver, batch, limits, best)
-    best, reports = _resolve_near_misses(model, solver, batch, limits, best)
+    ``lockstep``: lanes per vmap (module docstring of :mod:`diffsense.optimize.lanes`): "auto"
+    picks by backend, None puts every lane of a step in one vmap, a positive count must divide
+    the number of lanes."""
+    starts = _starts(model, n_starts, seed)
+    run = prepare(model, n_starts=starts.shape[0], options=options, lockstep=lockstep)
+    model.programs.start("values", "search", "dense")
+    limits = tight_limits(model, margin)
+    base = model.inputs()
+    scale = objective_scale(model)
+    lanes, relaxed, best = _relax(model, run, starts, base, limits, scale)
+    best = _round_integers(model, run, best)
+    reports = model.programs.reports(best.x, np.arange(best.x.shape[0]))
+    best, reports = _resolve_near_misses(model, run, limits, best, reports)
     if model.intervals.indices:
-        best, reports = _exchange(model, options or SolverOptions(polish=False), lockstep, batch, limits, best, reports)
-    optimum = _choose(model, best, reports, relaxed, lanes, starts.shape[0])
+        best, reports = _exchange(model, run, limits, best, reports)
+    optimum = _choose(model, best, reports, relaxed, lanes.combo, starts.shape[0])
     if canonical and optimum.feasible:
-        chosen = canonical_optimum(model, optimum.x, optimum.combo_index, options)
+        chosen = canonical_optimum(model, optimum.x, optimum.combo_index, run=run,
+                                   theta=rows_of(best.theta, optimum.combo_index))
         if chosen is not None:
             optimum.x = chosen.x
             optimum.canonical = {"rule": chosen.rule, "flat_directions": chosen.flat_directions,
                                  "smallest_slack_before": chosen.smallest_slack_before,
                                  "smallest_slack_after": chosen.smallest_slack_after}
     return optimum
+
+
+__all__ = ["optimize_design", "prepare", "DesignOptimum", "tight_limits"]

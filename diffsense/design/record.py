@@ -33,11 +33,10 @@ def design_record(model: DesignModel, x, combo_index: int) -> dict:
     """JSON-ready description of one design: the design values with units, requirements,
     objective, and per case the link budget and every output."""
     spec = model.spec
-    combo = model.combo_table[combo_index]
     x = np.asarray(x, dtype=float)
     design = design_table(model, x, combo_index)
     choices = dict(model.combinations[combo_index].options)
-    evaluations, _, raw_objective = model.evaluate_all(x, combo)
+    evaluations, requirements, objective = model.programs.assess(x[None, :], [combo_index])[0]
     cases = {}
     for case, ev in evaluations.items():
         outs = spec.outputs[case]
@@ -55,8 +54,7 @@ def design_record(model: DesignModel, x, combo_index: int) -> dict:
         "sensor": spec.sensor,
         "design": design,
         "choices": choices,
-        "requirements": model.requirement_report(x, combo),
-        "objective": {"text": spec.objective.text,
-                      "value": float(raw_objective) * spec.objective.sign},
+        "requirements": requirements,
+        "objective": {"text": spec.objective.text, "value": objective},
         "cases": cases,
     }

@@ -7,7 +7,8 @@ the bounded objectives, each warm-started from its neighbour with the post-optim
 predictor; integer variables rounded to their best feasible neighbour as in
 :func:`diffsense.design.optimizer.optimize_design`). The requirement limits are tightened by
 ``margin`` (scaled units) as ``optimize`` does. Each point is then re-evaluated exactly
-(:meth:`DesignModel.evaluate_all` at the returned design): points the solver did not converge
+(the model's evaluation program at the returned design, its interval requirements re-checked
+densely): points the solver did not converge
 on or that miss a requirement are dropped and counted, and so are the points another
 combination's point dominates; the non-dominated union is the front.
 
@@ -28,11 +29,14 @@ import jax.numpy as jnp
 import numpy as np
 
 from diffsense.design.model import DesignModel
-from diffsense.design.optimizer import build_problem, tight_limits
+from diffsense.design.optimizer import tight_limits
+from diffsense.design.problem import requirement_problem
+from diffsense.design.programs import rows_of, stack
 from diffsense.design.record import design_table
+from diffsense.design.runner import bounds_problem, objective_scale
 from diffsense.design.spec import Objective, Spec
 from diffsense.errors import SpecError
-from diffsense.optimize import Problem, SolverOptions
+from diffsense.optimize import SolverOptions
 from diffsense.optimize.bounds import variables_on_bounds
 from diffsense.optimize.continuation import knee_index, pareto_mask, trace_front
 
@@ -64,30 +68,51 @@ def objective_unit(model: DesignModel, objective: Objective) -> str:
 
 
 class TradeObjectives:
-    """The trade objectives of a model as pure functions of (design x, catalog row)."""
+    """The trade objectives of a model as pure functions of (design x, θ of a solve)."""
 
     def __init__(self, model: DesignModel, objectives):
         self.model = model
         self.objectives = tuple(objectives)
-        self.terms = [[model.objective_term(name) + (weight,) for name, weight in o.terms] for o in self.objectives]
+        self.terms = [[model.objective_term(name) for name, _ in o.terms] for o in self.objectives]
+        self.weights = [np.array([w for _, w in o.terms], dtype=float) for o in self.objectives]
         wanted: Dict[str, set] = {}
-        for source, case, base, _ in (t for ts in self.terms for t in ts):
+        for source, case, base in (t for ts in self.terms for t in ts):
             if source == "output":
                 wanted.setdefault(case, set()).add(base)
         self.wanted = {case: frozenset(v) for case, v in wanted.items()}
         self.signs = np.array([o.sign for o in self.objectives])
 
-    def values(self, x, combo, evaluations=None):
-        """The objectives in their own sense (maximised ones not negated), shape (K,)."""
+    def values_at(self, values, cost, evaluations=None):
+        """The objectives in their own sense (maximised ones not negated), shape (K,), at input
+        vector ``values`` with catalog ``cost``."""
         m = self.model
         ev = evaluations
         if ev is None and self.wanted:
-            ev = m.evaluate(x, combo, self.wanted)
-        return jnp.stack([m.weighted_terms(terms, x, combo, ev) for terms in self.terms])
+            ev = m.evaluate(values, self.wanted)
+        return jnp.stack([m.weighted_terms(terms, w, values, cost, ev) for terms, w in zip(self.terms, self.weights)])
 
-    def minimised(self, x, combo):
-        """The objectives as minimised (maximised ones negated), shape (K,)."""
-        return self.values(x, combo) * jnp.asarray(self.signs)
+    def minimised(self, x, s):
+        """The objectives as minimised (maximised ones negated), shape (K,), of a solve's θ."""
+        return self.values_at(self.model.solve_values(x, s), s.design.cost) * jnp.asarray(self.signs)
+
+    def host_values(self, values, cost, evaluation) -> np.ndarray:
+        """The objectives (NumPy) from an evaluation already computed (its outputs, NumPy)."""
+        m = self.model
+        out = []
+        for terms, w in zip(self.terms, self.weights):
+            total = 0.0
+            for k, (source, case, base) in enumerate(terms):
+                if source == "cost":
+                    val = cost
+                elif source == "output":
+                    val = evaluation[case].values[base]
+                elif source in ("variable", "combo"):
+                    val = values[m.layout.index(base)]
+                else:
+                    val = values[m.layout.slot(base, case)]
+                total += w[k] * float(np.asarray(val))
+            out.append(total)
+        return np.array(out)
 
 
 @dataclass
@@ -108,19 +133,6 @@ class TradeResult:
     seconds: float
 
 
-def _problem(model: DesignModel) -> Problem:
-    """The design problem with θ = (catalog row, limits) (floating leaves only)."""
-    base = build_problem(model)
-    pin = jnp.zeros(len(model.variable_names), dtype=bool)
-
-    def wrap(fn):
-        return None if fn is None else (lambda x, th: fn(x, (th[0], th[1], x, pin)))
-
-    return Problem(wrap(base.objective), model.lower, model.upper, inequality=wrap(base.inequality),
-                   equality=wrap(base.equality), log_scale=model.log_scale, integer=model.integer,
-                   names=list(model.variable_names))
-
-
 #: per model: the trade problem and objective functions, the same objects on every call so
 #: that :func:`diffsense.optimize.continuation.step_program` compiles them once
 _FUNCTIONS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
@@ -132,32 +144,40 @@ def _functions(model: DesignModel):
     hit = _FUNCTIONS.get(model)
     if hit is None or hit[1].objectives != tuple(model.spec.trade.objectives):
         objectives = TradeObjectives(model, model.spec.trade.objectives)
-        hit = (_problem(model), objectives, lambda x, th: objectives.minimised(x, th[0]))
+        hit = (requirement_problem(model), objectives, objectives.minimised)
         _FUNCTIONS[model] = hit
     return hit
 
 
-def _point(model: DesignModel, objectives: TradeObjectives, x, combo_index: int, lam, kkt: float,
-           converged: bool, anchor: int) -> dict:
-    """The exact re-evaluation of one solved point as a record."""
-    combo = model.combo_table[combo_index]
-    ev, req_values, _ = model.evaluate_all(x, combo)
-    F = np.asarray(objectives.values(jnp.asarray(x), jnp.asarray(combo), ev), dtype=float)
-    rows = model.requirement_rows(req_values)
-    full_lam = np.zeros(len(model.requirements))
-    full_lam[~model.is_equality] = lam[: int((~model.is_equality).sum())]
-    active = [r["name"] for r, lm, s, eq in zip(rows, full_lam, model.scales, model.is_equality)
-              if eq or lm > 0.0 or abs(r["slack"]) <= ACTIVE_SLACK * s]
-    on_lo, on_hi = variables_on_bounds(_problem_bounds(model), x)
-    bounds = [f"{n} at its lower bound" for n, b in zip(model.variable_names, on_lo) if b]
-    bounds += [f"{n} at its upper bound" for n, b in zip(model.variable_names, on_hi) if b]
-    return {"F": F, "x": np.asarray(x, float), "combo_index": int(combo_index), "met": all(r["met"] for r in rows),
-            "converged": bool(converged), "kkt_residual": float(kkt), "active": active, "on_bounds": bounds,
-            "anchor": int(anchor), "requirements": rows}
+def _points(model: DesignModel, objectives: TradeObjectives, front, limits) -> List[dict]:
+    """The exact re-evaluation of every solved point as a record (one batched call of the
+    model's evaluation program, then each point's dense re-check)."""
+    assessed = model.programs.assess(front.x, front.group)
+    out = []
+    bounds_problem_ = bounds_problem(model)
+    for i, (ev, rows, _) in enumerate(assessed):
+        c = int(front.group[i])
+        values = model.design_values(front.x[i], c)
+        F = objectives.host_values(values, float(model.combo_table[c, -1]), ev)
+        full_lam = model.inequality_multipliers(front.lam[i])
+        active = [r["name"] for r, lm, s, eq in zip(rows, full_lam, model.scales, model.is_equality)
+                  if eq or lm > 0.0 or abs(r["slack"]) <= ACTIVE_SLACK * s]
+        on_lo, on_hi = variables_on_bounds(bounds_problem_, front.x[i])
+        bounds = [f"{n} at its lower bound" for n, b in zip(model.variable_names, on_lo) if b]
+        bounds += [f"{n} at its upper bound" for n, b in zip(model.variable_names, on_hi) if b]
+        out.append({"F": F, "x": np.asarray(front.x[i], float), "combo_index": c,
+                    "met": all(r["met"] for r in rows),
+                    "converged": bool(front.converged[i] and front.feasible[i]),
+                    "kkt_residual": float(front.kkt_residual[i]), "active": active, "on_bounds": bounds,
+                    "anchor": int(front.anchor[i]), "requirements": rows})
+    return out
 
 
-def _problem_bounds(model: DesignModel) -> Problem:
-    return Problem(lambda x, _: x[0], model.lower, model.upper, log_scale=model.log_scale)
+def _row(evaluation, i: int):
+    """Row ``i`` of a batched evaluation (NumPy)."""
+    import jax
+
+    return jax.tree_util.tree_map(lambda a: np.asarray(a)[i], evaluation)
 
 
 def stretches(points: List[dict], labels: List[str]) -> List[dict]:
@@ -187,14 +207,24 @@ def trade_design(model: DesignModel, *, points: Optional[int] = None, margin: fl
         raise SpecError(model.spec.path, "trade", "missing: add a [trade] table with objectives = [...]")
     problem, objectives, minimised = _functions(model)
     C = len(model.combinations)
-    limits = np.broadcast_to(tight_limits(model, margin), (C, len(model.requirements))).copy()
-    thetas = (model.combo_table.copy(), limits)
+    limits = tight_limits(model, margin)
+    # each combination's θ, its interval slots at the worst points of its initial design
+    _, designs = model.programs.design_inputs(np.tile(model.initial, (C, 1)), np.arange(C))
+    thetas = stack([model.solve_inputs(rows_of(designs, c), c, limits, objective_scale(model)) for c in range(C)])
+
+    def values(x, groups):
+        """The objectives (minimised) at solved points, by the model's evaluation program."""
+        x = np.atleast_2d(x)
+        V = np.stack([model.design_values(xi, int(c)) for xi, c in zip(x, groups)])
+        ev = model.programs.values_rows(V, per_row_inputs=stack([rows_of(designs, int(c)) for c in groups]))[0]
+        return np.array([objectives.host_values(V[i], float(model.combo_table[int(c), -1]),
+                                                {k: _row(e, i) for k, e in ev.items()}) * objectives.signs
+                         for i, c in enumerate(groups)])
+
     front = trace_front(problem, minimised, thetas,
                         np.tile(model.initial, (C, 1)), points=points or trade.points,
-                        options=options or SolverOptions(), lockstep=lockstep)
-    recs = [_point(model, objectives, front.x[i], int(front.group[i]), front.lam[i], front.kkt_residual[i],
-                   bool(front.converged[i] and front.feasible[i]), int(front.anchor[i]))
-            for i in range(front.x.shape[0])]
+                        options=options or SolverOptions(), lockstep=lockstep, values=values)
+    recs = _points(model, objectives, front, limits)
     good = [r for r in recs if r["converged"] and r["met"]]
     dropped = {"unconverged": sum(not r["converged"] for r in recs),
                "unmet": sum(r["converged"] and not r["met"] for r in recs)}

@@ -1,48 +1,37 @@
-"""The explorer's compiled programs: a design's evaluation, and its range sweeps, interval
-curves and derivatives, all as functions of the report's input vector.
+"""The explorer's numbers from the design model's compiled programs: a design's evaluation, its
+range sweeps, interval curves and derivatives, all as functions of the input vector.
 
-The input vector is :func:`diffsense.report.inputs.design_inputs` — every design variable,
-every catalog parameter and every fixed parameter — so moving a slider, picking a catalog
-option or typing a fixed value only changes the numbers fed to the same compiled programs; each
-is traced and compiled once per spec (:class:`ExplorerProgram`). There are two main ones, so that the
-page can show its numbers before the larger one is compiled (and a third, :meth:`ExplorerProgram.quick`,
-the core without the interval requirements' searches, whose values it leaves NaN, so that the
-page shows the budgets, outputs and point requirements before those searches are compiled):
+The input vector is the design model's (:mod:`diffsense.design.layout`) — every design variable,
+every catalog parameter and every fixed parameter — so moving a slider, picking a catalog option
+or typing a fixed value only changes the numbers fed to the same compiled programs, the ones
+``diffsense evaluate``, ``optimize`` and ``report`` use for the same spec
+(:mod:`diffsense.design.programs`, kept on disk between runs):
 
-* :meth:`ExplorerProgram.core` — ``evaluations``, ``requirements`` and ``objective`` of
-  :func:`diffsense.report.inputs.input_evaluator` (every case with every output; interval
-  requirements at their worst point, found with the value-only polish of
-  :func:`diffsense.optimize.semi_infinite.worst_points_shared` — the requirements of one case
-  over one box searched together by one batched chain evaluation, without the evaluation that
-  carries derivatives — whose program compiles in a fraction of the time of the optimiser's
-  Newton polish and agrees with it to round-off at a smooth minimum;
-  the objective as the spec states it, for the catalog combination whose cost it is given);
+* :meth:`ExplorerProgram.quick` — the *check* program (every case's outputs, the requirements,
+  the objective) with the interval requirements' values left NaN ("pending"), so that the page
+  shows its numbers before the search program is compiled;
+* :meth:`ExplorerProgram.core` — the interval requirements' worst points by the *search*
+  program, then the check program at them;
 * :meth:`ExplorerProgram.extras` — ``sweeps``: per case with a numeric ``range_m`` input, the
   outputs ``snr_db``, ``required_snr_db``, ``pd`` and the main detection margin
-  (:func:`diffsense.report.sweeps.main_margin`) on a grid of ranges (m), from the chain alone
-  (only those outputs are computed); ``intervals``: per one-parameter interval requirement, its
-  output on :data:`CURVE_POINTS` points of its interval; ``jacobian``: d(requirement outputs,
-  objective)/d(inputs), forward mode (rows: the requirements in spec order, then the objective;
-  columns: the inputs).
-
-The catalog cost enters the objective as ``weight · cost`` (:class:`~diffsense.design.spec.Objective`
-term ``cost``); the programs are traced for the first catalog combination and the objective of
-another combination k is shifted by ``weight · (cost_k − cost_0)``, which is exact because the
-cost enters the weighted sum linearly and nothing else.
+  (:func:`diffsense.report.sweeps.main_margin`) on a grid of ranges (m); ``intervals``: per
+  one-parameter interval requirement, its output on :data:`CURVE_POINTS` points of its
+  interval (both as rows of the check program, one input varied); ``jacobian``:
+  d(requirement outputs, objective)/d(inputs) by the *evaluation* program's forward-mode
+  derivatives (rows: the requirements in spec order, then the objective; columns: the inputs).
 """
 
 from __future__ import annotations
 
 import threading
-from typing import Dict, List, Optional, Tuple
+from typing import Dict, List, Optional
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 
 from diffsense.design.model import DesignModel
-from diffsense.report.inputs import Input, case_parameters, input_evaluator
-from diffsense.scene import chain_for
+from diffsense.design.programs import with_found_points
+from diffsense.design.layout import Input
 from diffsense.report.sweeps import input_index, main_margin
 
 #: outputs drawn against range, when the case has them
@@ -71,20 +60,18 @@ def interval_grid(bx, n: int = None) -> np.ndarray:
 
 
 class ExplorerProgram:
-    """The compiled :meth:`core` and :meth:`extras` of ``model`` at ``inputs`` (module docstring).
+    """The explorer's evaluations of ``model`` at input vectors (module docstring).
 
     ``sweep_cases``: case -> index of the ``range_m`` input it sweeps; ``grids`` holds one grid
     (m) per distinct index, in the order of :attr:`sweep_inputs`. ``interval_requirements``: the
     indices (spec order) of the one-parameter interval requirements, with their grids in
-    :attr:`interval_grids`.
+    :attr:`interval_grids` and the input each one varies in :attr:`interval_inputs`.
     """
 
     def __init__(self, model: DesignModel, inputs: List[Input]):
         self.model = model
         self.inputs = inputs
         spec = model.spec
-        model.intervals.polish = "zoom"
-        fn = input_evaluator(model, inputs, 0)
         self.sweep_cases: Dict[str, int] = {}
         for case in spec.scenes:
             k = input_index(inputs, "range_m", case)
@@ -97,98 +84,108 @@ class ExplorerProgram:
         self.interval_requirements: List[int] = [j for j in model.intervals.indices
                                                  if model.intervals.boxes[j].dim == 1]
         self.interval_grids = {j: interval_grid(model.intervals.boxes[j]) for j in self.interval_requirements}
+        self.interval_inputs = {j: model.layout.slot(model.requirements[j].over[0].parameter,
+                                                     model.requirements[j].case)
+                                for j in self.interval_requirements}
+        self.core_ready = False
         self.extras_ready = False
         self._compiling = threading.Lock()
+        self._points = None  # the interval slots of the last search (its worst points)
 
-        def wanted(case):
-            names = {n for n in SWEEP_OUTPUTS}
-            if self.margin_outputs[case] is not None:
-                names.add(self.margin_outputs[case])
-            return frozenset(names)
+    def start(self) -> None:
+        """Begin compiling the program of the first numbers (:meth:`quick`) in a background
+        thread; the others compile on first use (:meth:`core`, :meth:`extras`), which the page
+        asks for after it is shown."""
+        self.model.programs.start("check")
 
-        def swept(v, k, grid):
-            out = {}
-            for case, kk in self.sweep_cases.items():
-                if kk != k:
-                    continue
-                scene = spec.scenes[case]
+    def _inputs(self, v, combo_index: int):
+        inputs = self.model.inputs(combo_index, values=np.asarray(v, dtype=float))
+        if self._points is not None:
+            inputs = inputs._replace(points=self._points)
+        return inputs
 
-                def at(r, case=case, scene=scene):
-                    p = dict(case_parameters(spec, inputs, v)[case], range_m=r)
-                    return chain_for(scene).compute(scene, p, wanted=wanted(case)).values
-                values = jax.vmap(at)(grid)
-                out[case] = {n: values[n] for n in list(SWEEP_OUTPUTS) + [self.margin_outputs[case]]
-                             if n is not None and n in values}
-            return out
+    def _values(self, v, inputs) -> dict:
+        ev, _, req, obj = self.model.programs.values_rows(np.asarray(v, dtype=float)[None, :], inputs)
+        first = lambda tree: jax.tree_util.tree_map(lambda a: np.asarray(a)[0], tree)  # noqa: E731
+        return {"evaluations": first(ev), "requirements": np.asarray(req[0], dtype=float),
+                "objective": float(np.asarray(obj)[0])}
 
-        def curves(v):
-            params = case_parameters(spec, inputs, v)
-            out = {}
-            for j in self.interval_requirements:
-                p = params[spec.requirements[j].case]
-                grid = jnp.asarray(self.interval_grids[j])
-                out[j] = jax.vmap(lambda q, j=j, p=p: model.intervals.value_at(j, p, q[None]))(grid)
-            return out
+    def quick(self, v, combo_index: int) -> dict:
+        """Evaluations, requirement values and objective at input vector ``v`` with the
+        interval requirements' values NaN (no search)."""
+        out = self._values(v, self._inputs(v, combo_index))
+        out["requirements"] = out["requirements"].copy()
+        out["requirements"][self.model.intervals.indices] = np.nan
+        return out
 
-        def stacked(v):
-            _, req, obj = fn(v)
-            return jnp.concatenate([jnp.reshape(req, (-1,)), jnp.reshape(obj, (1,))])
+    def core(self, v, combo_index: int) -> dict:
+        """Evaluations, requirement values and objective at input vector ``v`` (NumPy), the
+        interval requirements at the worst points a search finds there."""
+        def run():
+            inputs = self._inputs(v, combo_index)
+            if self.model.intervals.indices:
+                found = self.model.programs.search_rows(np.asarray(v, dtype=float)[None, :],
+                                                        jax.tree_util.tree_map(lambda a: np.asarray(a)[None], inputs))[0]
+                inputs = with_found_points(self.model, inputs, found)
+                self._points = inputs.points
+            return self._values(v, inputs)
+        return self._first("core_ready", run)
 
-        def evaluated(v, cost_shift, flag: str, value: bool):
-            # a switch of the interval searches, read while tracing (module docstring)
-            old = getattr(model.intervals, flag)
-            setattr(model.intervals, flag, value)
-            try:
-                evaluations, req, obj = fn(v)
-            finally:
-                setattr(model.intervals, flag, old)
-            return {"evaluations": evaluations, "requirements": req, "objective": obj + cost_shift}
-
-        # core: no derivatives (the Jacobian is in extras), so the searches skip the evaluation
-        # that carries them; quick: the core without the interval searches (values NaN)
-        core = lambda v, cost_shift: evaluated(v, cost_shift, "differentiable", False)
-        quick = lambda v, cost_shift: evaluated(v, cost_shift, "pending", True)
-
-        def extras(v, grids: Tuple):
-            sweeps = {}
+    def extras(self, v, combo_index: int, grids) -> dict:
+        """Sweeps, interval curves and Jacobian at ``v`` (NumPy); compiles on first use."""
+        def run():
+            v0 = np.asarray(v, dtype=float)
+            inputs = self._inputs(v0, combo_index)
+            rows, where = [], []
             for k, grid in zip(self.sweep_inputs, grids):
-                sweeps.update(swept(v, k, grid))
-            return {"sweeps": sweeps, "intervals": curves(v), "jacobian": jax.jacfwd(stacked)(v)}
+                block = np.repeat(v0[None, :], len(grid), axis=0)
+                block[:, k] = grid
+                rows.append(block)
+                where.append(("sweep", k))
+            for j in self.interval_requirements:
+                block = np.repeat(v0[None, :], len(self.interval_grids[j]), axis=0)
+                block[:, self.interval_inputs[j]] = self.interval_grids[j]
+                rows.append(block)
+                where.append(("interval", j))
+            programs = self.model.programs
+            out = {"sweeps": {}, "intervals": {}}
+            if rows:
+                ev = programs.values_rows(np.vstack(rows), inputs)[0]
+                start = 0
+                for (kind, key), block in zip(where, rows):
+                    part = {c: jax.tree_util.tree_map(lambda a, s=start, n=len(block): np.asarray(a)[s:s + n], e)
+                            for c, e in ev.items()}
+                    start += len(block)
+                    if kind == "sweep":
+                        for case, kk in self.sweep_cases.items():
+                            if kk != key:
+                                continue
+                            names = [n for n in SWEEP_OUTPUTS + (self.margin_outputs[case],)
+                                     if n is not None and n in part[case].values]
+                            out["sweeps"][case] = {n: np.asarray(part[case].values[n]) for n in names}
+                    else:
+                        r = self.model.requirements[key]
+                        out["intervals"][key] = np.asarray(part[r.case].values[r.output])
+            n = v0.size
+            (_, _, req, obj), (_, _, req_t, obj_t) = programs.evaluate_rows(np.repeat(v0[None, :], n, axis=0),
+                                                                             np.eye(n), inputs)
+            out["jacobian"] = np.vstack([np.asarray(req_t).T, np.asarray(obj_t)[None, :]])
+            return out
+        return self._first("extras_ready", run)
 
-        self._quick = jax.jit(quick)
-        self._core = jax.jit(core)
-        self._extras = jax.jit(extras)
-        self.core_ready = False
-
-    def quick(self, v, cost_shift: float) -> dict:
-        """:meth:`core` with the interval requirements' values NaN (no search compiled)."""
-        out = self._quick(jnp.asarray(v, dtype=float), jnp.asarray(cost_shift, dtype=float))
-        return jax.tree_util.tree_map(np.asarray, out)
-
-    def core(self, v, cost_shift: float) -> dict:
-        """Evaluations, requirement values and objective at input vector ``v`` (NumPy arrays)."""
-        return self._first_compiled("core_ready", self._core,
-                                    (jnp.asarray(v, dtype=float), jnp.asarray(cost_shift, dtype=float)))
-
-    def extras(self, v, grids) -> dict:
-        """Sweeps, interval curves and Jacobian at ``v`` (NumPy arrays); compiles on first use."""
-        return self._first_compiled("extras_ready", self._extras,
-                                    (jnp.asarray(v, dtype=float), tuple(jnp.asarray(g, dtype=float) for g in grids)))
-
-    def _first_compiled(self, ready: str, program, args) -> dict:
-        """``program(*args)`` as NumPy arrays; until flag ``ready`` is set, under one lock, so that
-        a program is compiled once whichever thread (a slider move, the page's loader) asks first."""
+    def _first(self, ready: str, run) -> dict:
+        """``run()``; until flag ``ready`` is set, under one lock, so that a program is compiled
+        once whichever thread (a slider move, the page's loader) asks first."""
         if getattr(self, ready):
-            out = program(*args)
-        else:
-            with self._compiling:
-                out = jax.block_until_ready(program(*args))
-                setattr(self, ready, True)
-        return jax.tree_util.tree_map(np.asarray, out)
+            return run()
+        with self._compiling:
+            out = run()
+            setattr(self, ready, True)
+        return out
 
-    def __call__(self, v, cost_shift: float, grids) -> dict:
+    def __call__(self, v, combo_index: int, grids) -> dict:
         """Both programs' outputs at ``v``."""
-        return {**self.core(v, cost_shift), **self.extras(v, grids)}
+        return {**self.core(v, combo_index), **self.extras(v, combo_index, grids)}
 
 
 __all__ = ["ExplorerProgram", "range_grid", "interval_grid", "SWEEP_OUTPUTS", "SWEEP_POINTS", "CURVE_POINTS"]

@@ -67,13 +67,12 @@ class ExplorerSession:
         self.model = DesignModel(self.spec)
         self.inputs = design_inputs(self.model, self.model.initial, 0)
         self.program = ExplorerProgram(self.model, self.inputs)
+        self.program.start()
         self._index = {inp.name: k for k, inp in enumerate(self.inputs)}
         self.variable_names: List[str] = list(self.model.variable_names)
         self.catalogs: Dict[str, List[str]] = {c: list(self.spec.choices[c].option_names)
                                                for c in self.model.choice_names}
         self.fixed_names: List[str] = [i.name for i in self.inputs if i.kind == "fixed"]
-        weights = [w for name, w in self.spec.objective.terms if name == "cost"]
-        self._cost_weight = float(sum(weights))
         self.last_eval_ms: Optional[float] = None
         self.reset()
 
@@ -164,29 +163,28 @@ class ExplorerSession:
 
     def evaluate(self, extras: bool = True, core: bool = True) -> dict:
         """The compiled programs at the current point (timed: :attr:`last_eval_ms`); without
-        ``extras`` only the core program (evaluations, requirements, objective); without
-        ``core`` the quick program instead (interval requirements NaN)."""
+        ``extras`` only the core (evaluations, requirements, objective); without ``core`` the
+        quick evaluation instead (interval requirements NaN)."""
         combo = self.combo_index
-        shift = self._cost_weight * (self.model.combo_table[combo, -1] - self.model.combo_table[0, -1])
         t0 = time.perf_counter()
-        out = self.program.core(self.v, shift) if core else self.program.quick(self.v, shift)
+        out = self.program.core(self.v, combo) if core else self.program.quick(self.v, combo)
         if extras:
-            out.update(self.program.extras(self.v, self.grids()))
+            out.update(self.program.extras(self.v, combo, self.grids()))
         self.last_eval_ms = 1e3 * (time.perf_counter() - t0)
         return out
 
     def prepare_core(self) -> float:
-        """Compile the core program (with the interval requirements' searches) by running it at
+        """Compile the core programs (with the interval requirements' search) by running them at
         the current point; returns the seconds it took."""
         t0 = time.perf_counter()
-        self.program.core(self.v, 0.0)
+        self.program.core(self.v, self.combo_index)
         return time.perf_counter() - t0
 
     def prepare_extras(self) -> float:
-        """Compile the extras program (sweeps, interval curves, Jacobian) by running it at the
-        current point; returns the seconds it took."""
+        """Compile the extras' program (derivatives) by running the sweeps, interval curves and
+        Jacobian at the current point; returns the seconds it took."""
         t0 = time.perf_counter()
-        self.program.extras(self.v, self.grids())
+        self.program.extras(self.v, self.combo_index, self.grids())
         return time.perf_counter() - t0
 
     def snapshot(self, extras: Optional[bool] = True) -> dict:

@@ -16,6 +16,11 @@ import jax.numpy as jnp
 from jax import lax
 
 
+#: an iteration that moves ln x by less than this (relative to max(1, |ln x|)) everywhere ends
+#: the solve: the Newton iteration has converged to round-off, or the bracket has shrunk to it
+_SETTLED = 4.0 * float(jnp.finfo(jnp.float64).eps)
+
+
 class RootResult(NamedTuple):
     """``root``: the solution (clipped to the bracket when there is none inside it);
     ``bracketed``: True where the residual changes sign inside the bracket, so ``root`` is a
@@ -26,7 +31,7 @@ class RootResult(NamedTuple):
     residual: jnp.ndarray
 
 
-def decreasing_root_log(f: Callable, lo, hi, *, iterations: int = 100) -> RootResult:
+def decreasing_root_log(f: Callable, lo, hi, *, iterations: int = 100, differentiable: bool = True) -> RootResult:
     """Solve f(x) = 0 for x in [lo, hi] (x > 0) where f is decreasing in x, elementwise.
 
     ``f`` maps an array of x to an array of residuals of the same shape (elementwise), and may
@@ -37,7 +42,11 @@ def decreasing_root_log(f: Callable, lo, hi, *, iterations: int = 100) -> RootRe
     bracket, and bisects otherwise. The bracket in ln x therefore at least halves every second
     iteration: 100 iterations shrink a bracket up to ln(hi/lo) = 40 below 4e-14 even when no
     Newton step is accepted (Newton converges quadratically near a simple root, so usually a
-    handful of iterations decide the answer).
+    handful of iterations decide the answer). The iteration stops early once a step moves ln x
+    by less than 4 ε max(1, |ln x|) everywhere: later steps would not change the answer.
+
+    ``differentiable=False`` (for a caller that differentiates the root itself, or never) runs
+    the same iteration without the implicit-derivative machinery: a smaller program.
     """
     lo = jnp.asarray(lo, dtype=float)
     hi = jnp.asarray(hi, dtype=float)
@@ -50,8 +59,8 @@ def decreasing_root_log(f: Callable, lo, hi, *, iterations: int = 100) -> RootRe
         flo = g_(ulo0)
         fhi = g_(uhi0)
 
-        def body(_, state):
-            a, b, u, width_before = state
+        def body(state):
+            a, b, u, width_before, _, it = state
             val, slope = jax.jvp(g_, (u,), (jnp.ones_like(u),))
             # keep the bracket: g decreasing, so g(u) > 0 means the root lies above u
             a = jnp.where(val > 0, u, a)
@@ -63,9 +72,14 @@ def decreasing_root_log(f: Callable, lo, hi, *, iterations: int = 100) -> RootRe
             ok = ok & (width <= 0.5 * width_before)
             u_next = jnp.where(ok, newton, 0.5 * (a + b))
             u_next = jnp.where(val == 0, u, u_next)
-            return a, b, u_next, width
+            settled = jnp.all(jnp.abs(u_next - u) <= _SETTLED * jnp.maximum(1.0, jnp.abs(u)))
+            return a, b, u_next, width, settled, it + 1
 
-        a, b, u, _ = lax.fori_loop(0, iterations, body, (ulo0, uhi0, u0, 4.0 * (uhi0 - ulo0)))
+        def cond(state):
+            return (state[5] < iterations) & ~state[4]
+
+        init = (ulo0, uhi0, u0, 4.0 * (uhi0 - ulo0), jnp.asarray(False), 0)
+        a, b, u, _, _, _ = lax.while_loop(cond, body, init)
         u = jnp.where(flo <= 0, ulo0, jnp.where(fhi >= 0, uhi0, u))
         return u
 
@@ -78,6 +92,9 @@ def decreasing_root_log(f: Callable, lo, hi, *, iterations: int = 100) -> RootRe
         return jnp.where(flat, 0.0, y / jnp.where(flat, 1.0, d))
 
     u0 = 0.5 * (ulo0 + uhi0)
+    if not differentiable:
+        u = lax.stop_gradient(solve(g, u0))
+        return RootResult(jnp.exp(u), (g(ulo0) > 0) & (g(uhi0) < 0), g(u))
     u = lax.custom_root(g, u0, solve, tangent_solve)
     bracketed = (g(ulo0) > 0) & (g(uhi0) < 0)
     # a bound returned for lack of a root does not move with the parameters

@@ -281,6 +281,7 @@ class _Final(NamedTuple):
     grad_phi: jax.Array
     G: jax.Array
     H: jax.Array
+    jac: jax.Array
 
 
 def _final_from(problem: Problem, scales: Scales, zlo, zhi, z, x, val, jac, lam, nu, m: int) -> _Final:
@@ -299,7 +300,7 @@ def _final_from(problem: Problem, scales: Scales, zlo, zhi, z, x, val, jac, lam,
     grad_z = scales.f * dxdz * r_x
     kkt = kkt_residual(z, grad_z, G, H, lam, zlo, zhi)
     mu_lo, mu_hi = bound_multipliers(problem, x, r_x)
-    return _Final(z, x, f, g, h, lam_p, nu_p, mu_lo, mu_hi, kkt, dxdz * gphi_x, G, H)
+    return _Final(z, x, f, g, h, lam_p, nu_p, mu_lo, mu_hi, kkt, dxdz * gphi_x, G, H, jac)
 
 
 def _final_outputs(ctx: ALContext, state: ALState) -> _Final:
@@ -350,7 +351,7 @@ def run_al(problem: Problem, x0, theta, options: SolverOptions,
         x=final.x, f=final.f, g=final.g, h=final.h, lam=final.lam, nu=final.nu,
         mu_lower=final.mu_lower, mu_upper=final.mu_upper, converged=converged, feasible=feasible,
         kkt=final.kkt, iterations=state.k, inner_iterations=state.inner_total, penalty=state.rho,
-        polished=state.polished, conflict=conflict, scales=state.scales,
+        polished=state.polished, conflict=conflict, scales=state.scales, jacobian=final.jac,
     )
 
 

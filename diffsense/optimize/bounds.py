@@ -78,11 +78,23 @@ def variables_on_bounds(problem: Problem, x):
     >>> lo.tolist(), hi.tolist()
     ([True, False], [False, False])
     """
-    x = jnp.asarray(x, dtype=float)
-    zlo, zhi = problem.scaled_bounds()
-    on_lo, on_hi = near_bounds(problem.to_scaled(x), zlo, zhi)
-    on_lo = np.asarray(on_lo)
-    return on_lo, np.asarray(on_hi) & ~on_lo
+    # in NumPy (the same formulas as the solvers' traced ones): no eager JAX dispatch
+    x = np.asarray(x, dtype=float)
+    lo, hi = np.asarray(problem.lower, float), np.asarray(problem.upper, float)
+    s, log = np.asarray(problem.scale, float), np.asarray(problem.log_scale, bool)
+
+    def scaled(v):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(log, np.log(np.where(log, v, s) / s), v / s)
+
+    zlo, zhi, z = scaled(lo), scaled(hi), scaled(np.where(log, np.maximum(x, np.finfo(float).tiny), x))
+
+    def tol(b):
+        return BOUND_RTOL * (1.0 + np.abs(np.where(np.isfinite(b), b, 0.0)))
+
+    on_lo = z - zlo <= tol(zlo)
+    on_hi = zhi - z <= tol(zhi)
+    return on_lo, on_hi & ~on_lo
 
 
 def box_reparameterisation(zlo, zhi):

@@ -343,7 +343,8 @@ _VALUES: dict = {}
 
 
 def trace_front(problem: Problem, objectives: Callable, thetas, x0, *, points: int = 30, scales=None,
-                options: Optional[SolverOptions] = None, lockstep: Union[int, str, None] = "auto") -> Front:
+                options: Optional[SolverOptions] = None, lockstep: Union[int, str, None] = "auto",
+                values: Optional[Callable] = None) -> Front:
     """Trace the Pareto front of ``objectives(x, θ) -> (K,)`` (minimised, K ≥ 2) over
     ``problem``'s feasible set for every group (module docstring).
 
@@ -353,13 +354,16 @@ def trace_front(problem: Problem, objectives: Callable, thetas, x0, *, points: i
     (K,) the objectives' scales sₖ (default |F| at the first group's start, 1 where 0).
     Every call solves G·K lanes (the anchors; then the K walks of every group side by side)
     through one program compiled per (``problem``, ``objectives``) (:func:`step_program`):
-    pass the same function objects to reuse it."""
+    pass the same function objects to reuse it. ``values``: ``fn(x (N, n), groups (N,)) -> F
+    (N, K)``, the objectives at solved points (by a program the caller has already compiled;
+    default: a vmapped ``objectives``, compiled here)."""
     x0 = np.atleast_2d(np.asarray(x0, dtype=float))
     G = x0.shape[0]
-    obj = _values_program(objectives)
+    if values is None:
+        obj = _values_program(objectives)
 
-    def values(x, rows):
-        return np.asarray(obj(jnp.asarray(x), jax.tree_util.tree_map(jnp.asarray, take(thetas, rows))))
+        def values(x, rows):
+            return np.asarray(obj(jnp.asarray(x), jax.tree_util.tree_map(jnp.asarray, take(thetas, rows))))
 
     F0 = values(x0[:1], np.array([0]))[0]
     K = F0.shape[0]

@@ -69,16 +69,17 @@ def rounding_candidates(relaxed_values, int_lower, int_upper, max_enumerated: in
 
     k ≤ max_enumerated: all 2^k floor/ceil combinations; otherwise round(r) and round(r) ± eᵢ
     (1 + 2k rows). Shapes are static (k is known at trace time)."""
+    xp = np if isinstance(relaxed_values, np.ndarray) else jnp  # NumPy in, NumPy out: no eager JAX
     k = relaxed_values.shape[0]
-    r = jnp.clip(relaxed_values, int_lower, int_upper)
+    r = xp.clip(relaxed_values, int_lower, int_upper)
     if k <= max_enumerated:
         bits = np.array(list(itertools.product((0.0, 1.0), repeat=k)), dtype=float).reshape(-1, k)
-        cand = jnp.floor(r)[None, :] + bits
+        cand = xp.floor(r)[None, :] + bits
     else:
-        base = jnp.round(r)
+        base = xp.round(r)
         eye = np.eye(k)
-        cand = jnp.concatenate([base[None, :], base[None, :] - eye, base[None, :] + eye], axis=0)
-    return jnp.clip(cand, int_lower, int_upper)
+        cand = xp.concatenate([base[None, :], base[None, :] - eye, base[None, :] + eye], axis=0)
+    return xp.clip(cand, int_lower, int_upper)
 
 
 def candidate_count(k: int, max_enumerated: int = 8) -> int:
@@ -99,7 +100,7 @@ def integer_neighbours(problem: Problem, x, max_enumerated: int = 8) -> Lanes:
     int_lo, int_hi = np.ceil(lower[idx]), np.floor(upper[idx])
     starts, source = [], []
     for g, row in enumerate(x):
-        picks = np.asarray(rounding_candidates(jnp.asarray(row[idx]), int_lo, int_hi, max_enumerated))
+        picks = rounding_candidates(np.asarray(row[idx], dtype=float), int_lo, int_hi, max_enumerated)
         cand = np.repeat(row[None, :], picks.shape[0], axis=0)
         cand[:, idx] = picks
         starts.append(cand)

@@ -40,9 +40,8 @@ class ScaledModel(NamedTuple):
     def FGH(self, z):
         """(F, G, H) at z in one evaluation of the problem functions."""
         x = self.problem.from_scaled(z)
-        return (self.scales.f * self.problem.f(x, self.theta),
-                self.scales.g * self.problem.g(x, self.theta),
-                self.scales.h * self.problem.h(x, self.theta))
+        f, g, h = self.problem.fgh(x, self.theta)
+        return self.scales.f * f, self.scales.g * g, self.scales.h * h
 
     def lagrangian(self, z, lam, nu):
         F, G, H = self.FGH(z)
@@ -110,7 +109,8 @@ def scales_from(jac, val, m: int, options: SolverOptions) -> Scales:
 
 def stack_fgh(problem: Problem, theta, x):
     """The stacked vector (f, g, h) at x."""
-    return jnp.concatenate([problem.f(x, theta)[None], problem.g(x, theta), problem.h(x, theta)])
+    f, g, h = problem.fgh(x, theta)
+    return jnp.concatenate([f[None], g, h])
 
 
 def linearize_at(problem: Problem, theta, z, zlo, zhi):

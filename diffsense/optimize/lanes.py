@@ -92,17 +92,20 @@ def pin_variables(lower, upper, x, mask):
 
 def lane_program(problem: Problem, options: SolverOptions = SolverOptions(),
                  lockstep: Union[int, str, None] = None):
-    """The pure function ``fn(x0, theta, lower, upper) -> Result`` solving lanes (leading axis
-    of every argument; ``theta`` may be None) with ``lockstep`` lanes per vmap (module
-    docstring); jit it, or use :func:`make_lane_solver`. The lane count must be a multiple of
-    a lockstep count."""
+    """The pure function ``fn(x0, theta, lower, upper, scale=None) -> Result`` solving lanes
+    (leading axis of every argument; ``theta`` may be None; ``scale``, the variables' typical
+    magnitudes per lane, replaces the problem's own when given) with ``lockstep`` lanes per
+    vmap (module docstring); jit it, or use :func:`make_lane_solver`. The lane count must be a
+    multiple of a lockstep count."""
     k = resolve_lockstep(lockstep)
 
-    def one(x0, theta, lower, upper):
-        return solve(problem.with_bounds(lower, upper), x0, theta, options)
+    def one(x0, theta, lower, upper, scale=None):
+        return solve(problem.with_bounds(lower, upper, scale), x0, theta, options)
 
-    def run(x0, theta, lower, upper):
-        return map_in_lockstep(one, (x0, theta, lower, upper), k)
+    def run(x0, theta, lower, upper, scale=None):
+        if scale is None:
+            return map_in_lockstep(one, (x0, theta, lower, upper), k)
+        return map_in_lockstep(one, (x0, theta, lower, upper, scale), k)
 
     return run
 

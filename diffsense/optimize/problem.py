@@ -54,6 +54,24 @@ def _as_vector(value, n: int, name: str, dtype=float) -> np.ndarray:
     return a
 
 
+def default_scales(lower, upper, log_scale) -> np.ndarray:
+    """The default typical magnitude of each variable (module docstring): the geometric mean
+    of finite bounds (else the lower bound) for a log variable, the largest finite bound's
+    magnitude (1 when that is 0 or none is finite) otherwise."""
+    lo, hi = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
+    logm = np.broadcast_to(np.asarray(log_scale, dtype=bool), lo.shape)
+    s = np.ones(lo.shape)
+    both = np.isfinite(lo) & np.isfinite(hi)
+    for i in range(lo.size):
+        if logm[i]:
+            s[i] = np.sqrt(lo[i] * hi[i]) if both[i] else lo[i]
+        else:
+            mags = [abs(v) for v in (lo[i], hi[i]) if np.isfinite(v)]
+            m = max(mags) if mags else 0.0
+            s[i] = m if m > 0 else 1.0
+    return s
+
+
 class Problem(eqx.Module):
     """A bound- and inequality/equality-constrained minimisation problem (see module doc).
 
@@ -69,6 +87,10 @@ class Problem(eqx.Module):
     integer: bool or (n,) bools marking integer variables (used by ``integer_neighbours`` and
         ``solve_mixed_integer``).
     names: optional variable names, used in reports.
+    combined: optional ``fgh(x, theta) -> (f, g, h)`` computing all three at once (one
+        evaluation of a model that both read); the solvers call it where they need all three.
+    sizes: optional ``(m, p)``, the numbers of inequalities and equalities, when known without
+        tracing the functions (a large model's trace is expensive).
 
     The functions must be pure JAX functions, finite with finite gradients inside the bounds.
     """
@@ -82,6 +104,8 @@ class Problem(eqx.Module):
     log_scale: jax.Array
     integer_indices: tuple = eqx.field(static=True)
     names: Optional[tuple] = eqx.field(static=True)
+    combined: Optional[Callable] = eqx.field(static=True)
+    sizes: Optional[tuple] = eqx.field(static=True)
 
     def __init__(
         self,
@@ -95,6 +119,8 @@ class Problem(eqx.Module):
         log_scale=False,
         integer=False,
         names: Optional[Sequence[str]] = None,
+        combined: Optional[Callable] = None,
+        sizes: Optional[tuple] = None,
     ):
         lo = np.atleast_1d(np.asarray(lower, dtype=float))
         hi = np.atleast_1d(np.asarray(upper, dtype=float))
@@ -113,15 +139,7 @@ class Problem(eqx.Module):
             i = int(np.argmax(logm & ~(lo > 0)))
             raise DomainError(f"Problem: log-scaled variable {i} needs lower > 0; got lower = {lo[i]!r}")
         if scale is None:
-            s = np.ones(n)
-            both = np.isfinite(lo) & np.isfinite(hi)
-            for i in range(n):
-                if logm[i]:
-                    s[i] = np.sqrt(lo[i] * hi[i]) if both[i] else lo[i]
-                else:
-                    mags = [abs(v) for v in (lo[i], hi[i]) if np.isfinite(v)]
-                    m = max(mags) if mags else 0.0
-                    s[i] = m if m > 0 else 1.0
+            s = default_scales(lo, hi, logm)
         else:
             s = _as_vector(scale, n, "scale")
             check_range("scale", s, 0.0, None, lo_open=True, where="Problem")
@@ -141,6 +159,8 @@ class Problem(eqx.Module):
         self.log_scale = jnp.asarray(logm)
         self.integer_indices = tuple(int(i) for i in np.flatnonzero(intm))
         self.names = names
+        self.combined = combined
+        self.sizes = None if sizes is None else (int(sizes[0]), int(sizes[1]))
 
     # ------------------------------------------------------------------ sizes
     @property
@@ -150,6 +170,8 @@ class Problem(eqx.Module):
 
     def constraint_sizes(self, theta=None) -> tuple[int, int]:
         """(m, p): numbers of inequality and equality constraints (static, from shapes)."""
+        if self.sizes is not None:
+            return self.sizes
         x = jax.ShapeDtypeStruct((self.n,), jnp.result_type(float))
         m = 0 if self.inequality is None else int(np.prod(jax.eval_shape(self.inequality, x, theta).shape))
         p = 0 if self.equality is None else int(np.prod(jax.eval_shape(self.equality, x, theta).shape))
@@ -171,6 +193,14 @@ class Problem(eqx.Module):
         if self.equality is None:
             return jnp.zeros((0,), dtype=x.dtype)
         return jnp.reshape(jnp.asarray(self.equality(x, theta), dtype=x.dtype), (-1,))
+
+    def fgh(self, x, theta=None):
+        """(f, g, h) at x: through ``combined`` when the problem has it (one evaluation)."""
+        if self.combined is None:
+            return self.f(x, theta), self.g(x, theta), self.h(x, theta)
+        f, g, h = self.combined(x, theta)
+        return (jnp.reshape(jnp.asarray(f, dtype=x.dtype), ()), jnp.reshape(jnp.asarray(g, dtype=x.dtype), (-1,)),
+                jnp.reshape(jnp.asarray(h, dtype=x.dtype), (-1,)))
 
     # ------------------------------------------------------ scaled coordinates
     def from_scaled(self, z):
@@ -195,9 +225,14 @@ class Problem(eqx.Module):
         """x projected onto [lower, upper]."""
         return jnp.clip(x, self.lower, self.upper)
 
-    def with_bounds(self, lower, upper) -> "Problem":
-        """The same problem with other bounds (arrays may be traced, e.g. under vmap)."""
-        return eqx.tree_at(lambda p: (p.lower, p.upper), self, (jnp.asarray(lower, float), jnp.asarray(upper, float)))
+    def with_bounds(self, lower, upper, scale=None) -> "Problem":
+        """The same problem with other bounds (and, given, other variable scales); arrays may be
+        traced, e.g. under vmap."""
+        if scale is None:
+            return eqx.tree_at(lambda p: (p.lower, p.upper), self,
+                               (jnp.asarray(lower, float), jnp.asarray(upper, float)))
+        return eqx.tree_at(lambda p: (p.lower, p.upper, p.scale), self,
+                           (jnp.asarray(lower, float), jnp.asarray(upper, float), jnp.asarray(scale, float)))
 
 
 def check_start(problem: Problem, x0, where: str = "solve") -> None:

@@ -4,7 +4,7 @@ method returns the same :class:`Result`."""
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import NamedTuple, Optional
 
 import jax
 
@@ -53,6 +53,9 @@ class Result(NamedTuple):
     if any, counts as one); inner_iterations: their total.
     penalty: final ρ. polished: the Newton refinement was accepted.
     conflict: :class:`Conflict` masks. scales: :class:`Scales` used.
+    jacobian: the Jacobian of the stacked (f, g, h) with respect to x at x (rows f, g, h;
+        unscaled), from the solve's own last linearisation (the augmented Lagrangian; None for
+        the SQP). A lane whose box pins every variable at x0 returns the linearisation at x0.
     """
 
     x: jax.Array
@@ -72,6 +75,7 @@ class Result(NamedTuple):
     polished: jax.Array
     conflict: Conflict
     scales: Scales
+    jacobian: Optional[jax.Array] = None
 
 
 __all__ = ["Result", "KKTResidual", "Conflict", "Scales"]

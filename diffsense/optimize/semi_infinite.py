@@ -45,7 +45,8 @@ import jax.numpy as jnp
 import numpy as np
 from jax import lax
 
-__all__ = ["Box", "box", "worst_points", "worst_points_shared", "worst_values", "dense_check", "DenseCheck"]
+__all__ = ["Box", "box", "worst_points", "worst_points_shared", "worst_points_grouped", "worst_values", "dense_check",
+           "DenseCheck", "grid_points", "dense_points"]
 
 
 class Box(NamedTuple):
@@ -362,3 +363,112 @@ def dense_check(fn_batch: Callable, bx: Box, *, n_points: int = 10_001, refine: 
             worst_p, worst_v = np.asarray(p_r, dtype=float), float(v_r)
     curve = (pts[:, 0], vals) if d == 1 else (None, None)
     return DenseCheck(worst_v, worst_p, int(pts.shape[0]), curve[0], curve[1])
+
+
+# --- boxes given as data (traced bounds, static grid sizes) ------------------------------------
+
+
+def _u_bounds(lower, upper, log):
+    """The box in u = p (linear) or ln p (log dimensions), traceable."""
+    lo = jnp.where(log, jnp.log(jnp.where(log, lower, 1.0)), lower)
+    hi = jnp.where(log, jnp.log(jnp.where(log, upper, 1.0)), upper)
+    return lo, hi
+
+
+def _from_u(u, log):
+    return jnp.where(log, jnp.exp(jnp.where(log, u, 0.0)), u)
+
+
+def grid_points(lower, upper, log, counts):
+    """The search grid of a box given as data — bounds ``lower``/``upper`` (d,), ``log`` (d,) bool,
+    possibly traced — with ``counts`` (static) points per dimension: (K, d) in p, C order, as
+    :meth:`Box.grid`."""
+    lo, hi = _u_bounds(lower, upper, log)
+    axes = [lo[i] + (hi[i] - lo[i]) * jnp.linspace(0.0, 1.0, counts[i]) for i in range(len(counts))]
+    mesh = jnp.meshgrid(*axes, indexing="ij")
+    u = jnp.stack([m.ravel() for m in mesh], axis=-1)
+    return jnp.clip(_from_u(u, log), lower, upper)
+
+
+def dense_points(lower, upper, log, n_points: int):
+    """The dense re-check grid of a box given as data (see :func:`dense_check`): per dimension
+    ⌈n^(1/d)⌉ + 1 points, the inner ones shifted by a third of a cell against a uniform grid in u,
+    ends included; (P, d) in p, C order. Traceable in the bounds."""
+    d = int(np.shape(lower)[-1])
+    per = int(np.ceil(n_points ** (1.0 / d))) + 1
+    lo, hi = _u_bounds(lower, upper, log)
+    t = np.linspace(0.0, 1.0, per)
+    t_inner = np.concatenate([[0.0], np.clip(t[1:-1] + 1.0 / (per - 1) / 3.0, 0.0, 1.0), [1.0]])
+    axes = [lo[i] + (hi[i] - lo[i]) * jnp.asarray(t_inner) for i in range(d)]
+    mesh = jnp.meshgrid(*axes, indexing="ij")
+    u = jnp.stack([m.ravel() for m in mesh], axis=-1)
+    return jnp.clip(_from_u(u, log), lower, upper)
+
+
+def worst_points_grouped(fn_multi: Callable, theta, lower, upper, log, counts: tuple, n_worst: int = 3, *,
+                         extra=None, differentiable: bool = False, sweeps: Optional[int] = None,
+                         rounds: int = ZOOM_ROUNDS, points: int = ZOOM_POINTS):
+    """The value-only search of :func:`worst_points_shared` for ``m`` functions, each over its own
+    box given as data: ``lower``/``upper``/``log`` (m, d) (traceable), ``counts`` (d,) static grid
+    points per dimension shared by the m boxes. ``fn_multi(theta, p)`` returns the m values (m,)
+    at one point (each function reads its own column). ``extra``: candidate points (m, E, d)
+    ranked with the grid's local minima (e.g. the worst points a previous search or a dense
+    re-check found). Returns ``(values (m, n_worst), points (m, n_worst, d))``, each function's
+    sorted; with ``differentiable`` the values are re-evaluated at the stopped points (derivatives
+    by the envelope theorem), otherwise they are the polish's own (no derivative)."""
+    theta_s = jax.tree_util.tree_map(lax.stop_gradient, theta)
+    lower, upper, log = (jnp.asarray(a) for a in (lower, upper, log))
+    m, d = lower.shape
+    grids = jax.vmap(lambda lo, hi, lg: grid_points(lo, hi, lg, counts))(lower, upper, log)  # (m, K, d)
+    if extra is not None:
+        grids = jnp.concatenate([grids, jnp.clip(jnp.asarray(extra, dtype=grids.dtype), lower[:, None, :],
+                                                 upper[:, None, :])], axis=1)
+    n_grid = int(np.prod(counts))
+    own = jnp.arange(m)
+    flat = grids.reshape(-1, d)
+    values = jax.vmap(lambda q: fn_multi(theta_s, q))(flat).reshape(m, grids.shape[1], m)[own, :, own]  # (m, K+E)
+    u_lo, u_hi = _u_bounds(lower, upper, log)  # (m, d)
+    cell = (u_hi - u_lo) / jnp.maximum(jnp.asarray(counts, dtype=u_lo.dtype) - 1.0, 1.0)
+
+    def starts_of(v, grid_u):
+        finite = jnp.isfinite(v)
+        mask = _local_minimum_mask(v[:n_grid], counts)
+        mask = jnp.concatenate([mask, jnp.ones((v.shape[0] - n_grid,), dtype=bool)])
+        span = jnp.max(jnp.where(finite, jnp.abs(v), 0.0)) + 1.0
+        score = jnp.where(finite, v, 1e300) + jnp.where(mask, 0.0, 4.0 * span)
+        _, idx = lax.top_k(-score, n_worst)
+        return grid_u[idx], jnp.where(finite, v, jnp.inf)[idx]
+
+    grid_u = jnp.where(log[:, None, :], jnp.log(jnp.where(log[:, None, :], grids, 1.0)), grids)
+    u0, v0 = jax.vmap(starts_of)(values, grid_u)  # (m, n_worst, d), (m, n_worst)
+    offsets = jnp.linspace(-1.0, 1.0, points)
+    shrink = (points - 1) / 2.0
+
+    def line(state, c, h):
+        u, _ = state
+        ts = jnp.clip(u[..., c][..., None] + h[:, None, None] * offsets, u_lo[:, None, None, c], u_hi[:, None, None, c])
+        cands = jnp.broadcast_to(u[:, :, None, :], ts.shape + (d,)).at[..., c].set(ts)
+        pts = _from_u(cands, log[:, None, None, :])
+        vals = jax.vmap(lambda q: fn_multi(theta_s, q))(pts.reshape(-1, d)).reshape(ts.shape + (m,))
+        vals = vals[own, :, :, own]  # each function's own column: (m, n_worst, P)
+        vals = jnp.where(jnp.isfinite(vals), vals, jnp.inf)
+        k = jnp.argmin(vals, axis=-1)  # the middle candidate is u itself: never uphill
+        u_new = jnp.take_along_axis(cands, k[..., None, None], axis=2)[:, :, 0, :]
+        return u_new, jnp.take_along_axis(vals, k[..., None], axis=2)[..., 0]
+
+    n_sweeps = (1 if d == 1 else 4) if sweeps is None else sweeps
+
+    def sweep(_, state):
+        def round_(r, state):
+            h = cell / shrink**r  # (m, d)
+            for c in range(d):
+                state = line(state, c, h[:, c])
+            return state
+        return lax.fori_loop(0, rounds, round_, state)
+
+    u_best, v_best = lax.fori_loop(0, n_sweeps, sweep, (u0, v0))
+    pts = lax.stop_gradient(jnp.clip(_from_u(u_best, log[:, None, :]), lower[:, None, :], upper[:, None, :]))
+    if differentiable:
+        v_best = jax.vmap(lambda q: fn_multi(theta, q))(pts.reshape(-1, d)).reshape(m, n_worst, m)[own, :, own]
+    order = jnp.argsort(lax.stop_gradient(v_best), axis=-1)
+    return jnp.take_along_axis(v_best, order, axis=-1), jnp.take_along_axis(pts, order[..., None], axis=1)

@@ -43,9 +43,11 @@ Abramowitz & Stegun 6.5.2 and 6.5.13 (P(n, u) = 1 − exp(−u) Σ_{k<n} u^k/k!)
 from __future__ import annotations
 
 import math
+from functools import partial
 
+import jax
 import jax.numpy as jnp
-from jax.scipy.special import erf, gammainc, sici
+from jax.scipy.special import erf, sici
 
 from diffsense.numerics.checks import check_choice, check_range
 from diffsense.numerics.rootfind import decreasing_root_log
@@ -93,10 +95,33 @@ def _tuned_envelope(u, w, n: int):
     return _gamma_p(n, u) - _gamma_p(n, u - w)
 
 
+def _series_terms(n: int) -> int:
+    """Terms J of the series of P(n, u) below u = n: the last term's share Π_{j≤J} n/(n + j)
+    falls below 1e-17 (J = 22 for n = 1, 31 for n = 5)."""
+    share, j = 1.0, 0
+    while share >= 1e-17:
+        j += 1
+        share *= n / (n + j)
+    return j
+
+
 def _gamma_p(n: int, u):
-    """P(n, u) for u > 0 and 0 for u <= 0, with a finite derivative everywhere."""
+    """P(n, u) for u > 0 and 0 for u <= 0, with a finite derivative everywhere, in closed form
+    for the integer n of a tuned cascade (A&S 6.5.13 and 6.5.29), without an iterative special
+    function: below u = n the power series ``exp(−u) u^n/n! Σ_j u^j n!/(n + j)!`` (positive
+    terms, no cancellation where P is small; Horner's scheme, :func:`_series_terms` terms),
+    above it ``1 − exp(−u) Σ_{k<n} u^k/k!`` (where P ≥ 1/2 the subtraction loses nothing).
+    Relative error below 1e-15 for n ≤ 5."""
     positive = u > 0.0
-    return jnp.where(positive, gammainc(float(n), jnp.where(positive, u, 1.0)), 0.0)
+    v = jnp.where(positive, u, 1.0)
+    low = v < n
+    s = jnp.where(low, v, 1.0)  # the series branch's argument (double where: finite derivative)
+    acc = jnp.ones_like(s)
+    for j in range(_series_terms(n), 0, -1):
+        acc = 1.0 + acc * s / (n + j)
+    series = jnp.exp(-s) * s**n / math.factorial(n) * acc
+    upper = jnp.exp(-v) * sum(v**k / math.factorial(k) for k in range(n))
+    return jnp.where(positive, jnp.where(low, series, 1.0 - upper), 0.0)
 
 
 def _tuned_peak_u(w, n: int):
@@ -145,22 +170,69 @@ def received_pulse_envelope(time_s, pulse_width_s, bandwidth_hz, filter: str = "
     return _centred_envelope(beta * t, beta * tau, filter)
 
 
-def _relative_width(x, filter: str):
-    """Half-amplitude width over τ as a function of x = β τ (dimensionless)."""
+def _crossings(x, filter: str):
+    """The half-amplitude crossings of the envelope at x = β τ (no derivative): tuned cascades
+    ``(w, u_rise, u_fall)`` in u = ω0 t (w = ω0 τ), the symmetric filters ``(s,)`` in s = β t."""
     if filter in TUNED_STAGES:
         n = TUNED_STAGES[filter]
         w = 2.0 * jnp.pi * x * tuned_circuit_corner_frequency_hz(1.0, n)  # ω0 τ
         u_peak = _tuned_peak_u(w, n)
         half = 0.5 * _tuned_envelope(u_peak, w, n)
         rise = decreasing_root_log(lambda u: half - _tuned_envelope(u, w, n), 1e-9 * u_peak, u_peak,
-                                   iterations=_ROOT_ITERATIONS).root
+                                   iterations=_ROOT_ITERATIONS, differentiable=False).root
         fall = decreasing_root_log(lambda u: _tuned_envelope(u, w, n) - half, u_peak, u_peak + w + 60.0 + 10.0 * n,
-                                   iterations=_ROOT_ITERATIONS).root
-        return (fall - rise) / w
+                                   iterations=_ROOT_ITERATIONS, differentiable=False).root
+        return w, rise, fall
     half = 0.5 * _centred_envelope(0.0, x, filter)
     s = decreasing_root_log(lambda s: _centred_envelope(s, x, filter) - half, 1e-9 * (1.0 + x), 0.5 * x + 3.0,
-                            iterations=_ROOT_ITERATIONS).root
-    return 2.0 * s / x
+                            iterations=_ROOT_ITERATIONS, differentiable=False).root
+    return (s,)
+
+
+@partial(jax.custom_jvp, nondiff_argnums=(1,))
+def _relative_width(x, filter: str):
+    """Half-amplitude width over τ as a function of x = β τ (dimensionless); its derivative by
+    the implicit function theorem at the crossings (:func:`_relative_width_jvp`), so that a
+    derivative never passes through the root finds."""
+    c = _crossings(jax.lax.stop_gradient(x), filter)
+    if filter in TUNED_STAGES:
+        w, rise, fall = c
+        return (fall - rise) / w
+    return 2.0 * c[0] / x
+
+
+def _partials(fn, a, b):
+    """(∂fn/∂a, ∂fn/∂b) of fn(a, b) at (a, b)."""
+    da = jax.jvp(lambda t: fn(t, b), (a,), (jnp.ones_like(a),))[1]
+    db = jax.jvp(lambda t: fn(a, t), (b,), (jnp.ones_like(b),))[1]
+    return da, db
+
+
+@_relative_width.defjvp
+def _relative_width_jvp(filter, primals, tangents):
+    """At a crossing y(u_c, w) = half(w): du_c/dw = (half'(w) − ∂y/∂w) / (∂y/∂u) (the implicit
+    function theorem); half'(w) = ½ ∂y/∂w at the peak, where ∂y/∂u = 0. Same with (s, x) for
+    the symmetric filters."""
+    (x,), (dx,) = primals, tangents
+    c = _crossings(x, filter)
+    if filter in TUNED_STAGES:
+        n = TUNED_STAGES[filter]
+        w, rise, fall = c
+        env = lambda u, ww: _tuned_envelope(u, ww, n)  # noqa: E731
+        dhalf = 0.5 * jax.jvp(lambda ww: env(_tuned_peak_u(ww, n), ww), (w,), (jnp.ones_like(w),))[1]
+        slopes = []
+        for u_c in (rise, fall):
+            y_u, y_w = _partials(env, u_c, w)
+            slopes.append((dhalf - y_w) / y_u)
+        dw_dx = 2.0 * jnp.pi * tuned_circuit_corner_frequency_hz(1.0, n)
+        width = (fall - rise) / w
+        return width, ((slopes[1] - slopes[0]) - width) / w * dw_dx * dx
+    s = c[0]
+    env = lambda ss, xx: _centred_envelope(ss, xx, filter)  # noqa: E731
+    dhalf = 0.5 * jax.jvp(lambda xx: env(0.0, xx), (x,), (jnp.ones_like(x),))[1]
+    y_s, y_x = _partials(env, s, x)
+    ds = (dhalf - y_x) / y_s
+    return 2.0 * s / x, (2.0 * ds / x - 2.0 * s / x**2) * dx
 
 
 def received_pulse_width_s(pulse_width_s, bandwidth_hz, filter: str = "two_tuned"):

@@ -7,7 +7,6 @@
 
 from __future__ import annotations
 
-import hashlib
 import time
 from pathlib import Path
 from typing import Dict, List, Optional
@@ -22,8 +21,9 @@ from diffsense.report import figures
 from diffsense.report.figures import coverage_applies, coverage_skip_reason
 from diffsense.report.interval_figures import interval_caption, interval_margin
 from diffsense.report.batch import BatchEvaluator, row
+from diffsense.design.runner import objective_scale
 from diffsense.report.content import report_blocks
-from diffsense.report.inputs import design_inputs, input_evaluator
+from diffsense.report.inputs import design_inputs
 from diffsense.report.jacobian import jacobian_section
 from diffsense.report.postoptimal import post_optimal_section
 from diffsense.report.render import si_text, unit_text, write_report
@@ -37,19 +37,6 @@ from diffsense.report.sweeps import (
 )
 
 FIGURE_DIR = "figures"
-_EVALUATORS: Dict[tuple, BatchEvaluator] = {}
-_MAX_EVALUATORS = 4
-
-
-def _evaluator(model: DesignModel, inputs, combo_index: int, spec_text: bytes) -> BatchEvaluator:
-    """The compiled evaluator of this spec's structure (reused between reports of one spec)."""
-    key = (hashlib.sha256(spec_text).hexdigest(), combo_index,
-           tuple((i.name, i.param, i.cases, i.kind) for i in inputs))
-    if key not in _EVALUATORS:
-        if len(_EVALUATORS) >= _MAX_EVALUATORS:
-            _EVALUATORS.pop(next(iter(_EVALUATORS)))
-        _EVALUATORS[key] = BatchEvaluator(model, inputs, combo_index)
-    return _EVALUATORS[key]
 
 
 def _reason(exc: BaseException) -> str:
@@ -67,7 +54,7 @@ def _objective_unit(model: DesignModel) -> str:
 
 
 def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8, seed: int = 0,
-                 optimum=None) -> dict:
+                 optimum=None, model: Optional[DesignModel] = None) -> dict:
     """Write ``report.md``, ``report.html``, ``report.json`` and the figures (PNG, in
     ``out_dir/figures``) for the spec ``spec_path``; return the report dict (as in the JSON).
 
@@ -76,13 +63,19 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
     ``initial``, each catalog's first option), like ``diffsense evaluate``.
     ``optimum``: a :class:`~diffsense.design.optimizer.DesignOptimum` already computed for this
     spec; it is reported instead of optimising again (``optimize`` is then ignored).
+    ``model``: the spec's :class:`DesignModel` when the caller has built it (its compiled
+    programs are reused).
     Raises :class:`~diffsense.errors.SpecError` for an invalid spec; every other failure only
     removes the section it concerns (listed under ``unavailable``).
     """
     t_start = time.perf_counter()
     spec_path = Path(spec_path)
-    spec = load_spec(spec_path)
-    model = DesignModel(spec)
+    if model is None:
+        model = DesignModel(load_spec(spec_path))
+    spec = model.spec
+    # a report needs derivatives: every design goes through the evaluation program
+    model.programs.tangents_everywhere = True
+    model.programs.start("evaluation", "search", "dense")
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     unavailable: List[dict] = []
@@ -111,14 +104,14 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
         report.update(mode="initial_design", converged=None, feasible=None)
 
     inputs = design_inputs(model, x, combo_index)
-    batch = _evaluator(model, inputs, combo_index, spec_path.read_bytes())
+    batch = BatchEvaluator(model, x, combo_index)
     v0 = np.array([i.value for i in inputs])
     values, _ = batch(v0[None, :])
     evaluations, req_values, objective = row(values, 0)
     req_values = np.asarray(req_values, dtype=float)
     report["design"] = design_table(model, x, combo_index)
     report["choices"] = dict(model.combinations[combo_index].options)
-    checks = model.intervals.check(x, model.combo_table[combo_index], req_values) if model.intervals.indices else {}
+    checks = model.programs.dense_checks(batch.values0, batch.inputs, req_values)
     report["requirements"] = model.requirement_rows(req_values, checks=checks)
     try:
         attach_probabilities(model, report, x, combo_index)
@@ -166,8 +159,8 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
         try:
             if jac is None or not jac["autodiff"]:
                 raise RuntimeError("needs the automatic derivatives of the Jacobian section")
-            post = post_optimal_section(model, inputs, input_evaluator(model, inputs, combo_index), batch, x,
-                                        combo_index, jac["derivative"], req_values, multipliers)
+            post = post_optimal_section(model, inputs, batch, x, combo_index, jac["derivative"], req_values,
+                                        multipliers, objective_scale(model))
             report["post_optimal"] = _post_json(post, model, report)
             if post.get("reason"):
                 unavailable.append({"section": "post-optimal sensitivities d(design)/d(limit)", "reason": post["reason"]})

@@ -41,7 +41,7 @@ wrong; nothing is silently dropped or clamped.
 
 One module per section (:mod:`.cases`, :mod:`.variables`, :mod:`.choices`, :mod:`.fixed`,
 :mod:`.requirements`, :mod:`.objective`); :mod:`.parse` reads them in order and :mod:`.types`
-holds the validated result. :mod:`.evaluable` checks, once, that the chain has a finite answer
+holds the validated result. :mod:`diffsense.design.evaluable` checks, once, that the chain has a finite answer
 at the initial design and the corners of the box (the command line runs it after loading).
 """
 

@@ -98,4 +98,5 @@ def parse_spec(raw: Mapping, path="<spec>") -> Spec:
     return Spec(Path(str(path)), str(name), str(raw.get("title", name)), str(raw.get("description", "")),
                 sensor, cases.scenes, fixed, variables, choices, requirements, objective,
                 cases.parameters, cases.outputs, trade=read_trade(file, raw, cases, chosen),
-                uncertain=uncertain)
+                uncertain=uncertain,
+                case_overrides={c: frozenset(o) for c, o in cases.overrides.items()})

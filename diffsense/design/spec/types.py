@@ -100,6 +100,9 @@ class Spec:
     outputs: Dict[str, Dict[str, Output]] = field(default_factory=dict)  # case -> table
     uncertain: Optional["Uncertainty"] = None  # the [uncertain] section (:mod:`.uncertain`)
     trade: Optional[object] = None  # diffsense.design.spec.trade.Trade, from [trade]
+    #: case -> names of the parameters its own ``[cases.<name>]`` table sets (the rest of a
+    #: case's fixed values come from ``[fixed]`` or the chain's defaults, shared by the cases)
+    case_overrides: Dict[str, frozenset] = field(default_factory=dict)
 
     @property
     def cases(self) -> List[str]:

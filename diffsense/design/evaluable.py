@@ -5,7 +5,7 @@ Every key of a spec is checked against its own domain as it is read; some domain
 without a finite answer (a target radius of 1e-308 m gives an SNR of -inf, and a gradient
 solver never moves from there). :func:`check_evaluable` evaluates each case's chain at the
 spec's initial design and at the corners of the variables' box, for every catalog option
-combination, in one vectorised call per case, and raises one :class:`SpecError` for the first
+combination, through the design model's compiled check program, and raises one :class:`SpecError` for the first
 point where a requirement or objective output is not finite, naming the keys that set the
 values involved and the output. The point is then re-evaluated eagerly so that a joint-domain
 check of the chain (a :class:`DomainError`) names its arguments.
@@ -13,19 +13,16 @@ check of the chain (a :class:`DomainError`) names its arguments.
 
 from __future__ import annotations
 
-import functools
 import itertools
 import re
 from typing import Dict, List, Tuple
 
-import jax
-import jax.numpy as jnp
 import numpy as np
 
 from diffsense.design.spec.common import clean_message
 from diffsense.design.spec.types import Spec
 from diffsense.errors import DomainError, SpecError
-from diffsense.scene import chain_for, evaluate, number_text
+from diffsense.scene import evaluate, number_text
 
 #: with more variables than this only the initial design and one-at-a-time extremes are checked
 MAX_CORNER_VARIABLES = 6
@@ -95,40 +92,40 @@ def _case_outputs(spec: Spec, case: str) -> Dict[str, str]:
     return used
 
 
-def _case_parameters(spec: Spec, case: str, points: List[Point]) -> Dict[str, np.ndarray]:
-    """Every parameter of ``case`` at every point (defaults filled), one array per name."""
+def _case_parameters(spec: Spec, case: str, values: Dict[str, float]) -> Dict[str, float]:
+    """Every parameter of ``case`` at one design point (defaults filled)."""
     table = spec.parameters[case]
-    columns = {}
-    for name, prm in table.items():
-        column = [values.get(name, spec.fixed[case].get(name, prm.default)) for _, values in points]
-        columns[name] = np.asarray(column, dtype=float)
-    return columns
+    return {name: values.get(name, spec.fixed[case].get(name, prm.default)) for name, prm in table.items()}
 
 
-def _outputs(scene, wanted, params):
-    ev = chain_for(scene).compute(scene, params, wanted=wanted)
-    return {name: ev.values[name] for name in wanted}
-
-
-def check_evaluable(spec: Spec) -> None:
+def check_evaluable(model) -> None:
     """Raise :class:`SpecError` unless every output the spec uses is finite at the initial design
-    and at the corners of the box of every catalog combination (see the module text)."""
+    and at the corners of the box of every catalog combination (see the module text), evaluated
+    by the model's own compiled program (no program of its own)."""
+    spec = model.spec
     points = _design_points(spec)
-    for case, scene in spec.scenes.items():
-        used = _case_outputs(spec, case)
-        if not used:
-            continue
-        columns = _case_parameters(spec, case, points)
-        batch = {k: jnp.asarray(v) for k, v in columns.items()}
-        values_of = jax.jit(jax.vmap(functools.partial(_outputs, scene, frozenset(used))))(batch)
-        for out, key in used.items():
-            values = np.asarray(values_of[out], dtype=float)
+    used = {case: _case_outputs(spec, case) for case in spec.scenes}
+    if not any(used.values()):
+        return
+    V = np.stack([_vector(model, values) for _, values in points])
+    evaluations = model.programs.values_rows(V)[0]
+    for case, outs in used.items():
+        for out, key in outs.items():
+            values = np.asarray(evaluations[case].values[out], dtype=float)
             bad = np.flatnonzero(~np.isfinite(values))
             if bad.size:
                 j = int(bad[0])
-                where, _ = points[j]
-                params = {k: float(v[j]) for k, v in columns.items()}
-                _diagnose(spec, case, scene, params, where, out, key, float(values[j]))
+                where, design = points[j]
+                _diagnose(spec, case, spec.scenes[case], _case_parameters(spec, case, design), where, out, key,
+                          float(values[j]))
+
+
+def _vector(model, design: Dict[str, float]) -> np.ndarray:
+    """The model's input vector with the design variables and catalog parameters of ``design``."""
+    v = np.asarray(model.layout.values, dtype=float).copy()
+    for name, value in design.items():
+        v[model.layout.index(name)] = value
+    return v
 
 
 def _diagnose(spec: Spec, case: str, scene, params: Dict[str, float], where: str, out: str, key: str,

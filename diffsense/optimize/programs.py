@@ -1,0 +1,221 @@
+"""Compiled programs keyed by structure: traced once, kept on disk, compiled in the background.
+
+A program here is a pure function of arrays whose shapes and whose code are fixed by some
+*structure* (a design model's scenes, variables and requirements, say), while every number a
+user may edit is one of its array inputs. Such a program is the same for every value of those
+numbers, so it is
+
+* **exported once** (:mod:`jax.export`): traced and lowered to StableHLO the first time its
+  structure is seen, and the serialised module kept in ``<cache>/programs`` under a key made of
+  the structure, the program's name and static settings, the shapes of its inputs, the source
+  of this package and the JAX version. Later processes load the module instead of tracing
+  the Python code again (tracing is what a persistent XLA cache never saves);
+* **compiled in a background thread** (XLA compiles without holding Python's lock), so two
+  programs compile on two cores while the main thread traces a third or runs a compiled one; the
+  XLA compilation itself hits JAX's persistent compilation cache when it is configured.
+
+``<cache>`` is the folder of JAX's persistent compilation cache (``jax_compilation_cache_dir``,
+which the ``diffsense`` command sets from ``DIFFSENSE_CACHE_DIR``); without one, programs are
+exported and compiled once per process. A file that cannot be read is traced again and
+rewritten; files are written atomically (a temporary file renamed into place).
+
+Pytree types that appear in a program's inputs or outputs must be registered for serialisation
+(:func:`register_serializable`).
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import hashlib
+import json
+import os
+import tempfile
+import threading
+import time
+from pathlib import Path
+from typing import Callable, Dict, Optional
+
+import jax
+import numpy as np
+
+from diffsense.optimize.compile import compiler_options
+
+_PACKAGE = Path(__file__).resolve().parents[1]
+_CODE_VERSION: Optional[str] = None
+_REGISTERED: set = set()
+_LOCK = threading.Lock()
+#: compilations of each program name in this process (what the job benchmark and the tests count)
+COMPILATIONS: Dict[str, int] = {}
+#: traces (exports) of each program name in this process
+TRACES: Dict[str, int] = {}
+
+
+def code_version() -> str:
+    """A digest of this package's Python source (every ``*.py`` file under ``diffsense``): a
+    program traced from other code is never reused."""
+    global _CODE_VERSION
+    if _CODE_VERSION is None:
+        h = hashlib.sha256()
+        for path in sorted(_PACKAGE.rglob("*.py")):
+            h.update(str(path.relative_to(_PACKAGE)).encode())
+            h.update(path.read_bytes())
+        _CODE_VERSION = h.hexdigest()
+    return _CODE_VERSION
+
+
+def register_serializable(cls, name: Optional[str] = None) -> None:
+    """Make the pytree node type ``cls`` serialisable in exported programs: a NamedTuple, or a
+    class registered with :func:`jax.tree_util.register_pytree_node_class` whose auxiliary data
+    is a tuple of strings (e.g. output names). Idempotent."""
+    if cls in _REGISTERED:
+        return
+    name = name or f"{cls.__module__}.{cls.__qualname__}"
+    if issubclass(cls, tuple) and hasattr(cls, "_fields"):
+        jax.export.register_namedtuple_serialization(cls, serialized_name=name)
+    else:
+        jax.export.register_pytree_node_serialization(
+            cls, serialized_name=name,
+            serialize_auxdata=lambda aux: json.dumps(list(aux)).encode(),
+            deserialize_auxdata=lambda data: tuple(json.loads(bytes(data).decode())))
+    _REGISTERED.add(cls)
+
+
+def cache_folder() -> Optional[Path]:
+    """``<jax_compilation_cache_dir>/programs``, or None when JAX has no persistent cache."""
+    base = jax.config.jax_compilation_cache_dir
+    return Path(base) / "programs" if base else None
+
+
+def _avals(args):
+    return jax.tree_util.tree_map(lambda a: jax.ShapeDtypeStruct(np.shape(a), jax.numpy.result_type(a)), args)
+
+
+def _write_atomically(path: Path, data: bytes) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+class Program:
+    """One program: ``fn(*args)`` for arguments shaped like ``example`` (a tuple of array
+    pytrees), keyed by ``structure`` (a string naming everything the code depends on besides
+    the arguments' shapes). :meth:`start` exports and begins compiling it; calling it waits
+    for the compiled executable."""
+
+    def __init__(self, name: str, fn: Callable, example: tuple, structure: str, preset: str = "optimized",
+                 pool: Optional[concurrent.futures.Executor] = None):
+        self.name = name
+        self.fn = fn
+        self.avals = _avals(tuple(example))
+        self.preset = preset
+        self.pool = pool
+        leaves = jax.tree_util.tree_flatten(self.avals)
+        shapes = repr([(a.shape, str(a.dtype)) for a in leaves[0]]) + repr(leaves[1])
+        text = "\n".join([name, structure, preset, shapes, code_version(), jax.__version__,
+                          str(jax.config.jax_enable_x64)])
+        self.key = hashlib.sha256(text.encode()).hexdigest()[:40]
+        self._future: Optional[concurrent.futures.Future] = None
+        self._compiled = None
+        #: the module came from the cache folder (not traced); seconds to trace or load it, and
+        #: to compile it (or load it from the XLA cache)
+        self.loaded_from_disk = False
+        self.export_seconds: Optional[float] = None
+        self.compile_seconds: Optional[float] = None
+
+    def _exported(self) -> "jax.export.Exported":
+        t0 = time.perf_counter()
+        try:
+            return self._export_or_load()
+        finally:
+            self.export_seconds = time.perf_counter() - t0
+
+    def _export_or_load(self) -> "jax.export.Exported":
+        folder = cache_folder()
+        path = None if folder is None else folder / f"{self.name}-{self.key}.jaxexport"
+        if path is not None and path.exists():
+            try:
+                exported = jax.export.deserialize(bytearray(path.read_bytes()))
+                self.loaded_from_disk = True
+                return exported
+            except Exception:  # noqa: BLE001 - an unreadable file is traced again and replaced
+                pass
+        with _LOCK:
+            TRACES[self.name] = TRACES.get(self.name, 0) + 1
+        fn = self.fn
+        named = _named(fn, self.name)
+        exported = jax.export.export(jax.jit(named))(*self.avals)
+        if path is not None:
+            try:
+                _write_atomically(path, exported.serialize())
+            except OSError:
+                pass  # a read-only cache still runs, tracing again next time
+        return exported
+
+    def _compile(self, exported):
+        t0 = time.perf_counter()
+        with _LOCK:
+            COMPILATIONS[self.name] = COMPILATIONS.get(self.name, 0) + 1
+        call = _named(exported.call, self.name)
+        opts = compiler_options(self.preset)
+        jitted = jax.jit(call, compiler_options=opts) if opts else jax.jit(call)
+        compiled = jitted.lower(*self.avals).compile()
+        self.compile_seconds = time.perf_counter() - t0
+        return compiled
+
+    def start(self) -> "Program":
+        """Export (trace, or load from disk) in this thread and compile in the pool (or here,
+        without one). Idempotent."""
+        if self._future is None and self._compiled is None:
+            exported = self._exported()
+            if self.pool is None:
+                self._compiled = self._compile(exported)
+            else:
+                self._future = self.pool.submit(self._compile, exported)
+        return self
+
+    def compiled(self):
+        """The compiled executable (waits for its compilation)."""
+        if self._compiled is None:
+            self.start()
+            if self._compiled is None:
+                self._compiled = self._future.result()
+        return self._compiled
+
+    @property
+    def ready(self) -> bool:
+        return self._compiled is not None or (self._future is not None and self._future.done())
+
+    def __call__(self, *args):
+        return self.compiled()(*args)
+
+
+def _named(fn, name: str):
+    """``fn`` under the name ``name`` (what JAX's compilation log and profiles show)."""
+    def program(*args):
+        return fn(*args)
+    program.__name__ = program.__qualname__ = name.replace("-", "_")
+    return program
+
+
+_POOL: Optional[concurrent.futures.ThreadPoolExecutor] = None
+
+
+def compile_pool() -> concurrent.futures.ThreadPoolExecutor:
+    """The process's pool of compiling threads (two: the machines this runs on have a few
+    cores, and XLA's compilation of one module is mostly one thread)."""
+    global _POOL
+    if _POOL is None:
+        _POOL = concurrent.futures.ThreadPoolExecutor(max_workers=2, thread_name_prefix="diffsense-compile")
+    return _POOL
+
+
+__all__ = ["Program", "register_serializable", "code_version", "cache_folder", "compile_pool", "COMPILATIONS",
+           "TRACES"]
+

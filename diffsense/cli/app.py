@@ -41,16 +41,22 @@ def _global(
 ):
     """diffsense command-line tools."""
     ctx.obj = RunState(quiet=quiet)
-    # XLA:CPU compiles the loop-heavy solver programs about 40 % faster without its fusion
-    # emitters, at equal run time; read when the backend starts, so set before first use.
+    _configure_jax()
+
+
+def _configure_jax() -> None:
+    """The command line's JAX settings: XLA:CPU without its fusion emitters (the loop-heavy
+    solver programs compile about 40 % faster at equal run time; read when the backend starts,
+    so set before first use), and one persistent cache for compiled XLA programs and traced
+    design programs between runs (``DIFFSENSE_CACHE_DIR``, default ~/.cache/diffsense/xla), so
+    that only the first run of a spec structure pays tracing and compilation."""
     flag = "--xla_cpu_use_fusion_emitters=false"
     if flag not in os.environ.get("XLA_FLAGS", ""):
         os.environ["XLA_FLAGS"] = (os.environ.get("XLA_FLAGS", "") + " " + flag).strip()
     import jax
 
-    # Compiled XLA programs are kept between runs (DIFFSENSE_CACHE_DIR, default
-    # ~/.cache/diffsense/xla), so only the first run pays compilation.
-    cache = os.environ.get("DIFFSENSE_CACHE_DIR", os.path.join(os.path.expanduser("~"), ".cache", "diffsense", "xla"))
+    cache = os.environ.setdefault("DIFFSENSE_CACHE_DIR",
+                                  os.path.join(os.path.expanduser("~"), ".cache", "diffsense", "xla"))
     jax.config.update("jax_compilation_cache_dir", cache)
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
 

@@ -24,7 +24,6 @@ import jax.numpy as jnp
 import numpy as np
 
 from diffsense.design.inputs import SolveInputs
-from diffsense.design.model import DesignModel
 from diffsense.optimize import Problem
 from diffsense.optimize.problem import default_scales
 
@@ -32,7 +31,7 @@ from diffsense.optimize.problem import default_scales
 TIE_WEIGHT = 1e-3
 
 
-def variable_scales(model: DesignModel, lower=None, upper=None) -> np.ndarray:
+def variable_scales(model: "DesignModel", lower=None, upper=None) -> np.ndarray:
     """The solver's typical magnitude of each design variable and of t, as :class:`Problem`
     chooses them from bounds (:func:`~diffsense.optimize.problem.default_scales`): the model's
     box (t: 1) unless ``lower``/``upper`` (n + 1,) are given."""
@@ -41,7 +40,7 @@ def variable_scales(model: DesignModel, lower=None, upper=None) -> np.ndarray:
     return default_scales(lower, upper, np.append(model.log_scale, False))
 
 
-def design_problem(model: DesignModel) -> Problem:
+def design_problem(model: "DesignModel") -> Problem:
     """The problem of every solve of ``model`` (module docstring): variables (x, t), θ a
     :class:`SolveInputs`. Its bounds and scales are placeholders: each lane gives its own."""
     ineq = ~model.row_is_equality
@@ -71,7 +70,7 @@ def design_problem(model: DesignModel) -> Problem:
                    names=list(model.variable_names) + ["t"], combined=fgh, sizes=(2 * m + 1, p))
 
 
-def requirement_problem(model: DesignModel) -> Problem:
+def requirement_problem(model: "DesignModel") -> Problem:
     """The design problem in x alone (no t, no stage): minimise the normalised objective subject
     to the requirement rows, θ a :class:`SolveInputs` (trade studies' continuation)."""
     ineq = ~model.row_is_equality

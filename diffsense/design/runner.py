@@ -22,6 +22,7 @@ from diffsense.design.problem import variable_scales
 from diffsense.design.programs import rows_of, stack, with_found_points
 from diffsense.optimize import Problem, SolverOptions
 from diffsense.optimize.batch import resolve_lockstep
+from diffsense.optimize.distributed import solve_across_processes
 
 #: lanes per call of the lane program when lanes run one after another (CPU)
 LANE_BATCH = 8
@@ -85,20 +86,16 @@ class Runner:
         return np.hstack([lo, zeros]), np.hstack([hi, zeros])
 
     def solve(self, lanes: Lanes, scale=None):
-        """The :class:`~diffsense.optimize.Result` of every lane (NumPy; ``x`` without t)."""
+        """The :class:`~diffsense.optimize.Result` of every lane (NumPy; ``x`` without t when the
+        lanes' starts have none), in calls of :attr:`batch` lanes; with several processes
+        (``jax.distributed``) each solves its share (:func:`~diffsense.optimize.distributed.solve_across_processes`)."""
+        n_var = self.model.lower.size
         n = lanes.x.shape[0]
-        x0 = np.hstack([lanes.x, np.zeros((n, 1))]) if lanes.x.shape[1] == self.model.lower.size else lanes.x
+        x0 = np.hstack([lanes.x, np.zeros((n, 1))]) if lanes.x.shape[1] == n_var else lanes.x
         scale = np.broadcast_to(self.scale if scale is None else scale, x0.shape)
-        outs = []
-        for start in range(0, n, self.batch):
-            rows = np.arange(start, min(start + self.batch, n))
-            padded = np.concatenate([rows, np.full(self.batch - rows.size, rows[-1])])
-            res = self.program(x0[padded], rows_of(lanes.theta, padded), lanes.lower[padded], lanes.upper[padded],
-                               scale[padded])
-            outs.append(jax.tree_util.tree_map(lambda a, k=rows.size: np.asarray(a)[:k], res))
-            self.solves += rows.size
-        res = jax.tree_util.tree_map(lambda *a: np.concatenate(a), *outs)
-        return res._replace(x=res.x[:, :-1]) if lanes.x.shape[1] == self.model.lower.size else res
+        res = solve_across_processes(self.program, self.batch, x0, lanes.theta, lanes.lower, lanes.upper, scale)
+        self.solves += n
+        return res._replace(x=res.x[:, :-1]) if lanes.x.shape[1] == n_var else res
 
     def search_points(self, x, theta, combo):
         """θ with each lane's interval slots set by a search at its design ``x`` (L, n), and the

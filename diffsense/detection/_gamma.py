@@ -31,6 +31,7 @@ Q(a, x) with its derivatives (dQ/dx = -x^(a-1) e^-x / Gamma(a) exactly; dQ/da fr
 from __future__ import annotations
 
 import jax
+from jax.custom_derivatives import SymbolicZero
 import jax.numpy as jnp
 from jax.scipy.special import gammaincc
 
@@ -137,13 +138,21 @@ def gamma_q(a, x):
     return jnp.where(pos, jnp.exp(log_gamma_pq(a, jnp.where(pos, x, 1.0))[1]), 1.0)
 
 
-@gamma_q.defjvp
 def _gamma_q_jvp(primals, tangents):
     a, x = primals
     da, dx = tangents
     q = gamma_q(a, x)
     a, x = jnp.broadcast_arrays(jnp.asarray(a), jnp.asarray(x))
-    xp = jnp.where(x > 0, x, 1.0)
-    density = jnp.where(x > 0, jnp.exp(log_poisson_pmf(a - 1.0, xp)), 0.0)  # Gamma(a, 1) density
-    _, dq_da = jax.jvp(lambda s: gammaincc(s, x), (a,), (jnp.ones_like(a),))
-    return q, dq_da * da - density * dx
+    tangent = jnp.zeros_like(q)
+    if not isinstance(dx, SymbolicZero):
+        xp = jnp.where(x > 0, x, 1.0)
+        density = jnp.where(x > 0, jnp.exp(log_poisson_pmf(a - 1.0, xp)), 0.0)  # Gamma(a, 1) density
+        tangent = tangent - density * dx
+    if not isinstance(da, SymbolicZero):
+        # the order derivative (not differentiable again in JAX): only where a is differentiated
+        _, dq_da = jax.jvp(lambda s: gammaincc(s, x), (a,), (jnp.ones_like(a),))
+        tangent = tangent + dq_da * da
+    return q, tangent
+
+
+gamma_q.defjvp(_gamma_q_jvp, symbolic_zeros=True)

@@ -99,6 +99,7 @@ from __future__ import annotations
 from functools import partial
 
 import jax
+from jax.custom_derivatives import SymbolicZero
 import jax.numpy as jnp
 from jax.scipy.special import digamma, gammaincc
 
@@ -195,15 +196,17 @@ def _ratios(j, mu, r, q_, inv_q, single):
 def _mixture_sum(snr, t, n, q0, swerling, with_partials, tail_l=None):
     """Evaluate (1), the miss probability 1 - Pd and, optionally, partial derivatives of Pd.
 
-    ``with_partials``: False, True (w.r.t. snr, t, n) or "snr" (only dPd/dsnr, for root
-    finding). ``tail_l``: truncation exponent L (default :func:`tail_exponent`); the root finder
+    ``with_partials``: False, True (w.r.t. snr, t, n), "snr_t" (w.r.t. snr and t: where n is
+    not differentiated; dPd/dn needs the order derivative of Q(n, T), which JAX cannot
+    differentiate again) or "snr" (only dPd/dsnr, for root finding). ``tail_l``: truncation exponent L (default :func:`tail_exponent`); the root finder
     of ``required_snr`` raises it so that the truncation stays below its target's accuracy.
     Returns ``(pd, excess, miss, partials)``: ``excess = Pd - Pfa`` as summed (full relative
     accuracy on DOWN walks), ``miss = 1 - Pd`` summed directly on UP walks (1 - pd on DOWN
     walks, where Pd <~ 1/2).
     """
     want_snr = bool(with_partials)
-    want_all = with_partials is True
+    want_t = with_partials is True or with_partials == "snr_t"
+    want_n = with_partials is True
     mu = n * snr
     r = _shape(swerling, n)
     if tail_l is None:
@@ -242,8 +245,10 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials, tail_l=None):
         state["pois_mode"] = zeros
     if want_snr:
         state["d_mu"] = zeros
-    if want_all:
-        state.update(d_t=zeros, d_n=zeros, psi=digamma(n + j_first + 1.0))
+    if want_t:
+        state["d_t"] = zeros
+    if want_n:
+        state.update(d_n=zeros, psi=digamma(n + j_first + 1.0))
     log_t = jnp.log(t)
 
     def cond(s):
@@ -269,8 +274,9 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials, tail_l=None):
         if want_snr:
             weight = 1.0 if r is None else (j + r) / (r + mu)
             out["d_mu"] = s["d_mu"] + jnp.where(inside, pois_j * pmf_j * weight, 0.0)
-        if want_all:
+        if want_t:
             out["d_t"] = s["d_t"] + jnp.where(inside, pois_j * ((n + j) * inv_t) * pmf_j, 0.0)
+        if want_n:
             # dPd/dN at fixed T and mu: DOWN sum_j w'_j P(K > j) + dQ(N, T)/dN (added at the
             # end); UP -sum_j w'_j P(K <= j), the derivative of minus the miss probability,
             # which needs no dQ/dN and so does not cancel when Pd is near 1.
@@ -302,9 +308,11 @@ def _mixture_sum(snr, t, n, q0, swerling, with_partials, tail_l=None):
     if not want_snr:
         return pd, excess, miss, None
     d_snr = n * s["d_mu"]
-    if not want_all:
+    if not want_t:
         return pd, excess, miss, (d_snr, None, None)
     d_t = -s["d_t"]
+    if not want_n:
+        return pd, excess, miss, (d_snr, d_t, None)
     _, dq_dn = jax.jvp(lambda a: gammaincc(a, t), (n,), (jnp.ones_like(n),))
     # UP and above the window the Q(n, T) term is not part of the derivative (see body); above,
     # Pd = 1 - O(e^-L) whatever n.
@@ -426,13 +434,31 @@ def _pd_mixture(snr, t, n, q0, swerling):
     return _chunked(lambda *a: _mixture_sum(*a, swerling, with_partials=False)[0], snr, t, n, q0)
 
 
-@_pd_mixture.defjvp
+def _tangent(partials, dots):
+    """Σ partial · tangent over the tangents that are not symbolic zeros."""
+    total = None
+    for p, d in zip(partials, dots):
+        if p is None or isinstance(d, SymbolicZero):
+            continue
+        total = p * d if total is None else total + p * d
+    return total
+
+
+def _partials_mode(d_n_dot) -> object:
+    """The partials a JVP needs: all, or without dPd/dn where n is not differentiated."""
+    return "snr_t" if isinstance(d_n_dot, SymbolicZero) else True
+
+
 def _pd_mixture_jvp(swerling, primals, tangents):
     snr, t, n, q0 = primals
     d_snr_dot, d_t_dot, d_n_dot, _ = tangents  # q0 is Q(n, t): its tangent follows from t, n
-    pd, _, _, (p_snr, p_t, p_n) = _chunked(lambda *a: _mixture_sum(*a, swerling, with_partials=True), snr, t, n, q0)
-    tangent = p_snr * d_snr_dot + p_t * d_t_dot + p_n * d_n_dot
-    return pd, tangent
+    mode = _partials_mode(d_n_dot)
+    pd, _, _, partials = _chunked(lambda *a: _mixture_sum(*a, swerling, with_partials=mode), snr, t, n, q0)
+    tangent = _tangent(partials, (d_snr_dot, d_t_dot, d_n_dot))
+    return pd, jnp.zeros_like(pd) if tangent is None else tangent
+
+
+_pd_mixture.defjvp(_pd_mixture_jvp, symbolic_zeros=True)
 
 
 @jax.custom_jvp
@@ -441,15 +467,19 @@ def _pd_steady(snr, t, n, q0):
     return steady_pd(snr, t, n, q0)
 
 
-@_pd_steady.defjvp
 def _pd_steady_jvp(primals, tangents):
     # Derivatives (and the value returned with them) come from the general kernel, whose
     # analytic partials are accumulated in the same loop.
     snr, t, n, q0 = primals
     d_snr_dot, d_t_dot, d_n_dot, _ = tangents
     t_b, n_b, q0_b = (jnp.broadcast_to(a, snr.shape) for a in (t, n, q0))
-    pd, _, _, (p_snr, p_t, p_n) = _chunked(lambda *a: _mixture_sum(*a, 0, with_partials=True), snr, t_b, n_b, q0_b)
-    return pd, p_snr * d_snr_dot + p_t * d_t_dot + p_n * d_n_dot
+    mode = _partials_mode(d_n_dot)
+    pd, _, _, partials = _chunked(lambda *a: _mixture_sum(*a, 0, with_partials=mode), snr, t_b, n_b, q0_b)
+    tangent = _tangent(partials, (d_snr_dot, d_t_dot, d_n_dot))
+    return pd, jnp.zeros_like(pd) if tangent is None else tangent
+
+
+_pd_steady.defjvp(_pd_steady_jvp, symbolic_zeros=True)
 
 
 def pd_given_threshold(snr_linear, threshold, n, swerling=0, *, pfa=None):

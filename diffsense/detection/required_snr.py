@@ -161,8 +161,14 @@ def _required_snr_jvp(swerling, primals, tangents):
     x = _required_snr(pd_t, pfa, n, swerling)
     f = lambda xx, pp, nn: _pd_db(xx, pp, nn, swerling)
     # both directional derivatives of Pd from one linearisation (one copy of the Pd series in
-    # the compiled program, its linear map applied twice)
-    _, pd_lin = jax.linearize(f, x, pfa, n)
+    # the compiled program, its linear map applied twice); N is linearised only where it is
+    # differentiated: ∂Pd/∂N goes through the incomplete gamma function's order derivative,
+    # which JAX cannot differentiate again (second derivatives in the other inputs stay possible)
+    if n_is_constant:
+        _, lin2 = jax.linearize(lambda xx, pp: f(xx, pp, n), x, pfa)
+        pd_lin = lambda a, b, c: lin2(a, b)  # noqa: E731
+    else:
+        _, pd_lin = jax.linearize(f, x, pfa, n)
     dpd_dx = pd_lin(jnp.ones_like(x), jnp.zeros_like(pfa), jnp.zeros_like(n))
     dpd_pfa = pd_lin(jnp.zeros_like(x), dpfa, jnp.zeros_like(n))
     dpd_n = pd_lin(jnp.zeros_like(x), jnp.zeros_like(pfa), dn)

@@ -25,6 +25,7 @@ and Pfa = 1e-300 ... 1 - 1e-12: relative error of T below 4e-15
 from __future__ import annotations
 
 import jax
+from jax.custom_derivatives import SymbolicZero
 import jax.numpy as jnp
 from jax.scipy.special import gammaincc, gammaln, ndtri
 
@@ -130,15 +131,22 @@ def _threshold(pfa, n):
     return _solve_threshold(pfa, n)
 
 
-@_threshold.defjvp
 def _threshold_jvp(primals, tangents):
     pfa, n = primals
     dpfa, dn = tangents
     t = _threshold(pfa, n)
     inv_density = jnp.exp(-_log_density(n, t))  # 1 / f(T)
-    _, dq_dn = jax.jvp(lambda a: gammaincc(a, t), (n,), (jnp.ones_like(n),))
-    dt = (dq_dn * dn - dpfa) * inv_density
+    dt = jnp.zeros_like(t) if isinstance(dpfa, SymbolicZero) else -dpfa * inv_density
+    if not isinstance(dn, SymbolicZero):
+        # ∂Q/∂n (the order derivative of the incomplete gamma function, which JAX cannot
+        # differentiate again): only where n is differentiated, so that second derivatives
+        # in the other inputs exist
+        _, dq_dn = jax.jvp(lambda a: gammaincc(a, t), (n,), (jnp.ones_like(n),))
+        dt = dt + dq_dn * dn * inv_density
     return t, dt
+
+
+_threshold.defjvp(_threshold_jvp, symbolic_zeros=True)
 
 
 def threshold(pfa, n=1):

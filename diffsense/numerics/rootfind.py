@@ -42,11 +42,12 @@ def decreasing_root_log(f: Callable, lo, hi, *, iterations: int = 100, different
     bracket, and bisects otherwise. The bracket in ln x therefore at least halves every second
     iteration: 100 iterations shrink a bracket up to ln(hi/lo) = 40 below 4e-14 even when no
     Newton step is accepted (Newton converges quadratically near a simple root, so usually a
-    handful of iterations decide the answer). The iteration stops early once a step moves ln x
-    by less than 4 ε max(1, |ln x|) everywhere: later steps would not change the answer.
+    handful of iterations decide the answer).
 
     ``differentiable=False`` (for a caller that differentiates the root itself, or never) runs
-    the same iteration without the implicit-derivative machinery: a smaller program.
+    the same iteration without the implicit-derivative machinery, a smaller program, and stops
+    early once a step moves ln x by less than 4 ε max(1, |ln x|) everywhere (later steps would
+    not change the answer).
     """
     lo = jnp.asarray(lo, dtype=float)
     hi = jnp.asarray(hi, dtype=float)
@@ -79,7 +80,11 @@ def decreasing_root_log(f: Callable, lo, hi, *, iterations: int = 100, different
             return (state[5] < iterations) & ~state[4]
 
         init = (ulo0, uhi0, u0, 4.0 * (uhi0 - ulo0), jnp.asarray(False), 0)
-        a, b, u, _, _, _ = lax.while_loop(cond, body, init)
+        if differentiable:
+            # a fixed number of steps (a scan: its derivative passes through custom_root only)
+            a, b, u, _, _, _ = lax.fori_loop(0, iterations, lambda _, st: body(st), init)
+        else:
+            a, b, u, _, _, _ = lax.while_loop(cond, body, init)
         u = jnp.where(flo <= 0, ulo0, jnp.where(fhi >= 0, uhi0, u))
         return u
 

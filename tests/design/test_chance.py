@@ -186,9 +186,8 @@ def test_independent_monte_carlo_confirms_the_asked_probability(lognormal_rcs_op
 
 def test_gradients_of_the_chance_row_are_finite_and_match_differences(lognormal_rcs_optimum):
     model, res = lognormal_rcs_optimum
-    combo = jnp.asarray(model.combo_table[0])
-    limits = jnp.asarray(model.limits)
-    fn = jax.jit(lambda x: model.residuals(x, combo, limits)[0])
+    theta = jax.tree_util.tree_map(jnp.asarray, model.solve_inputs(model.inputs(0), 0, model.limits, 1.0))
+    fn = jax.jit(lambda x: model.residuals(x, theta)[0])
     x = jnp.asarray(res.x)
     g = jax.grad(fn)(x)
     H = jax.hessian(fn)(x)

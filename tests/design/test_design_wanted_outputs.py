@@ -21,6 +21,7 @@ import pytest
 import diffsense  # noqa: F401
 import diffsense.detection as detection
 import diffsense.sensors.radar.chain as radar_chain
+from diffsense.physics.received_pulse import received_pulse_width_s
 from diffsense.sensors.parts import _sub_jaxprs, count_equations
 from diffsense.scene import chain_for, complete_parameters, output_table
 from diffsense.design.model import DesignModel
@@ -44,21 +45,21 @@ def _other_design(model):
 def _full_problem(model):
     """(residuals, normalised objective) computed from the full evaluation of every case."""
 
-    def run(x, combo, limits):
-        ev = model.evaluate(x, combo)
-        residuals = model.sign * (model.requirement_values(x, combo, ev) - limits) / model.scales
-        return residuals, model.raw_objective(x, combo, ev) / model._objective_scale
+    def run(x, s):
+        _, _, req, objective = model.evaluation(model.solve_values(x, s), s.design)
+        residuals = model.sign * (req - s.limits) / model.scales
+        return residuals, model.spec.objective.sign * objective / s.objective_scale
 
     return run
 
 
 def _wanted_problem(model):
     """(residuals, normalised objective) as the optimiser computes them (wanted outputs only)."""
-    def run(x, combo, limits):
-        rows = model.residuals(x, combo, limits)
-        # a requirement over an interval has one row per worst point kept: its residual is the largest
+    def run(x, s):
+        rows, objective = model.residuals_and_objective(x, s)
+        # a requirement over an interval has one row per slot: its residual is the largest
         per_requirement = jnp.stack([jnp.max(rows[model.row_owner == j]) for j in range(len(model.requirements))])
-        return per_requirement, model.objective(x, combo)
+        return per_requirement, objective
 
     return run
 
@@ -68,11 +69,11 @@ def test_design_residuals_and_objective_from_wanted_outputs_equal_full_evaluatio
     model = DesignModel(load_spec(path))
     full = jax.jit(_full_problem(model))
     wanted = jax.jit(_wanted_problem(model))
-    limits = jnp.asarray(model.limits)
-    points = [(model.initial, model.combo_table[0]), (_other_design(model), model.combo_table[-1])]
+    points = [(model.initial, 0), (_other_design(model), len(model.combinations) - 1)]
     for x, combo in points:
         assert np.all(x >= model.lower) and np.all(x <= model.upper)
-        args = (jnp.asarray(x), jnp.asarray(combo), limits)
+        theta = model.solve_inputs(model.inputs(combo), combo, model.limits, 3.7)
+        args = (jnp.asarray(x), jax.tree_util.tree_map(jnp.asarray, theta))
         (r_full, f_full), (r_wanted, f_wanted) = full(*args), wanted(*args)
         assert np.all(np.isfinite(r_full)) and np.isfinite(f_full)
         np.testing.assert_allclose(np.asarray(r_wanted), np.asarray(r_full), rtol=RTOL, atol=0)
@@ -112,7 +113,11 @@ def test_ore_pass_residuals_trace_no_range_root_find_and_no_pd_series(monkeypatc
     spy(radar_chain, "decreasing_root_log")
     spy(detection, "pd")
     spy(detection, "required_snr_db")
-    args = (jnp.asarray(model.initial), jnp.asarray(model.combo_table[0]), jnp.asarray(model.limits))
+    def args_of(m):
+        theta = m.solve_inputs(m.inputs(0), 0, m.limits, 1.0)
+        return jnp.asarray(m.initial), jax.tree_util.tree_map(jnp.asarray, theta)
+
+    args = args_of(model)
 
     full = jax.make_jaxpr(lambda *a: _full_problem(model)(*a)[0])(*args)
     full_calls = dict(calls)
@@ -122,17 +127,21 @@ def test_ore_pass_residuals_trace_no_range_root_find_and_no_pd_series(monkeypatc
     assert full_calls == {"decreasing_root_log": 1, "pd": 1, "required_snr_db": 2}
     assert dict(calls) == {"required_snr_db": 1}
 
-    # the while loops left are exactly those of the N-pulse required-SNR solve
+    # the while loops left are exactly those of the N-pulse required-SNR solve and the two
+    # half-amplitude crossings of the received pulse (the range resolution's width, root-found
+    # until converged, without derivatives: physics.received_pulse)
     solve_only = jax.make_jaxpr(lambda pd, pfa, n: detection.required_snr_db(pd, pfa, n, 0))(0.95, 1e-12, 16.0)
+    width_only = jax.make_jaxpr(lambda t, b: received_pulse_width_s(t, b, "two_tuned"))(2e-8, 5e7)
     n_solve = _count_primitive(solve_only, "while")
-    assert n_solve >= 1
-    assert _count_primitive(wanted, "while") == n_solve < _count_primitive(full, "while")
+    n_width = _count_primitive(width_only, "while")
+    assert n_solve >= 1 and n_width == 2
+    assert _count_primitive(wanted, "while") == n_solve + n_width < _count_primitive(full, "while")
     assert count_equations(wanted) < count_equations(full)
 
     # with the spec's requirements over range intervals: still no detection-range root find and no Pd series
     calls.clear()
     interval_model = DesignModel(spec)
-    jax.make_jaxpr(interval_model.residuals)(*args)
+    jax.make_jaxpr(interval_model.residuals)(*args_of(interval_model))
     assert calls["required_snr_db"] >= 1 and calls["decreasing_root_log"] == 0 and calls["pd"] == 0
 
 

@@ -65,7 +65,10 @@ def test_an_equality_cannot_hold_over_an_interval():
 
 def _independent_margins(model, x, combo, req, points):
     """The requirement's output at ``points`` (n, d), evaluated by the chain directly."""
-    params = model.parameters(jnp.asarray(x), jnp.asarray(combo))[req.case]
+    values = np.asarray(model.layout.values, dtype=float).copy()
+    values[model.layout.variable_slots] = np.asarray(x, dtype=float)
+    values[model.layout.catalog_slots] = np.asarray(combo, dtype=float)[:-1]
+    params = model.parameters(jnp.asarray(values))[req.case]
     scene = model.spec.scenes[req.case]
     chain = chain_for(scene)
 

@@ -48,24 +48,26 @@ def _child(path):
     model = DesignModel(load_spec(path))
     rng = np.random.default_rng(SEED)
     x_all = jnp.asarray(_sample(model, rng, POINTS), dtype=jnp.float32)
-    limits = jnp.asarray(model.limits, dtype=jnp.float32)
     bad = []
+    f32 = lambda tree: jax.tree_util.tree_map(  # noqa: E731
+        lambda a: jnp.asarray(a, dtype=jnp.float32) if np.issubdtype(np.asarray(a).dtype, np.floating) else jnp.asarray(a),
+        tree)
 
-    def outputs(x, combo):
-        return {case: ev.values for case, ev in model.evaluate(x, combo).items()}
+    def outputs(x, s):
+        return {case: ev.values for case, ev in model.evaluate(model.solve_values(x, s)).items()}
 
-    residuals = jax.jit(jax.vmap(lambda x, c: model.residuals(x, c, limits), in_axes=(0, None)))
-    jac = jax.jit(jax.vmap(jax.jacfwd(lambda x, c: model.residuals(x, c, limits)), in_axes=(0, None)))
-    objective = jax.jit(jax.vmap(model.raw_objective, in_axes=(0, None)))
-    grad = jax.jit(jax.vmap(jax.grad(model.raw_objective), in_axes=(0, None)))
+    residuals = jax.jit(jax.vmap(lambda x, s: model.residuals(x, s), in_axes=(0, None)))
+    jac = jax.jit(jax.vmap(jax.jacfwd(lambda x, s: model.residuals(x, s)), in_axes=(0, None)))
+    objective = jax.jit(jax.vmap(model.objective, in_axes=(0, None)))
+    grad = jax.jit(jax.vmap(jax.grad(model.objective), in_axes=(0, None)))
     values = jax.jit(jax.vmap(outputs, in_axes=(0, None)))
-    for row in model.combo_table:
-        combo = jnp.asarray(row, dtype=jnp.float32)
-        checks = {"residuals": residuals(x_all, combo), "residual_gradients": jac(x_all, combo)}
-        if model._objective_terms:
-            checks["objective"] = objective(x_all, combo)
-            checks["objective_gradient"] = grad(x_all, combo)
-        for case, vals in values(x_all, combo).items():
+    for k, row in enumerate(model.combo_table):
+        theta = f32(model.solve_inputs(model.inputs(k), k, model.limits, 1.0))
+        checks = {"residuals": residuals(x_all, theta), "residual_gradients": jac(x_all, theta)}
+        if model.objective_terms:
+            checks["objective"] = objective(x_all, theta)
+            checks["objective_gradient"] = grad(x_all, theta)
+        for case, vals in values(x_all, theta).items():
             for name, v in vals.items():
                 checks[f"{case}.{name}"] = v
         for name, arr in checks.items():

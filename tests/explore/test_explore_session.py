@@ -62,7 +62,7 @@ def test_interval_curves_and_worst_values_agree_with_the_design_record(session):
         # a curve point is the chain's output at that value of the parameter
         case = spec.requirements[[r.name for r in spec.requirements].index(name)].case
         k = len(curve["grid"]) // 3
-        params = dict(model.parameters(model.initial, model.combo_table[s.combo_index])[case])
+        params = dict(model.parameters(model.design_values(model.initial, s.combo_index))[case])
         params[curve["parameter"]] = curve["grid"][k]
         direct = s.model.intervals.value_at([r.name for r in spec.requirements].index(name), params,
                                             [curve["grid"][k]])

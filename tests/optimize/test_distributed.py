@@ -24,16 +24,23 @@ N_STARTS = 6
 
 def lane_results(model):
     """The multistart lanes of ``model`` (its initial design and N_STARTS − 1 Latin-hypercube
-    starts), solved by :func:`solve_across_processes`."""
-    from diffsense.design.optimizer import build_problem, lane_grid, lane_solver
-    from diffsense.optimize import SolverOptions
-    from diffsense.optimize.distributed import solve_across_processes
+    starts, every catalog combination), solved through the design optimiser's lane program,
+    which splits them across the connected processes
+    (:func:`~diffsense.optimize.distributed.solve_across_processes`)."""
+    from diffsense.design.optimizer import _thetas, prepare
+    from diffsense.design.runner import Lanes, bounds_problem, objective_scale
     from diffsense.optimize.multistart import start_points
 
-    problem = build_problem(model)
-    starts = np.vstack([model.initial[None, :], start_points(problem, N_STARTS - 1, seed=3, method="lhs")])
-    columns = lane_grid(model, starts, model.limits)
-    return solve_across_processes(lane_solver(problem, SolverOptions(polish=False), "auto"), None, *columns)
+    run = prepare(model, n_starts=N_STARTS)
+    starts = np.vstack([model.initial[None, :],
+                        start_points(bounds_problem(model), N_STARTS - 1, seed=3, method="lhs")])
+    C = len(model.combinations)
+    x0 = np.repeat(starts, C, axis=0)
+    combos = np.tile(np.arange(C), starts.shape[0])
+    lower, upper = run.boxes(n=x0.shape[0])
+    theta = _thetas(model, model.inputs(), combos, model.limits, objective_scale(model))
+    theta, _ = run.search_points(x0, theta, combos)
+    return run.solve(Lanes(x0, theta, lower, upper, combos))
 
 
 def run(out=None):

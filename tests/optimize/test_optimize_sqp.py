@@ -120,22 +120,27 @@ def _ore_pass_94ghz_gunn():
     """The shipped ore-pass model at 94 GHz with the Gunn transmitter: (model, index of that
     catalog combination, problem, jitted SQP solve of (x0, θ)), built once per test process."""
     from diffsense.design.model import DesignModel
-    from diffsense.design.optimizer import build_problem
+    from diffsense.design.problem import requirement_problem
     from diffsense.design.spec import load_spec
 
     model = DesignModel(load_spec(DESIGNS / "ore_pass.toml"))
     combo = [c.index for c in model.combinations
              if c.values.get("freq_hz") == 94e9 and "Gunn" in " ".join(c.options.values())][0]
-    problem = build_problem(model)
+    problem = requirement_problem(model)
     solver = jax.jit(lambda x0, th: solve(problem, x0, th, SQP))
     return model, combo, problem, solver
 
 
 def _ore_pass_solve(x0):
+    # θ of the design problem; the interval requirements' slots at the far end of the shaft,
+    # their worst point (the margins fall monotonically down a vertical shaft)
     model, combo, _, solver = _ore_pass_94ghz_gunn()
-    theta = (jnp.asarray(model.combo_table[combo]), jnp.asarray(model.limits), jnp.asarray(x0),
-             jnp.zeros(len(model.initial), dtype=bool))
-    return solver(jnp.asarray(x0), theta)
+    # the optimiser's normalisation: the objective at the initial design, first catalog option
+    # (this objective reads no chain output, so it is evaluated without one)
+    first = model.inputs(0)
+    scale = abs(float(jax.jit(model.objective_value)(model.design_values(model.initial, 0), first)))
+    theta = model.solve_inputs(model.inputs(combo), combo, model.limits, scale)
+    return solver(jnp.asarray(x0), jax.tree_util.tree_map(jnp.asarray, theta))
 
 
 def _assert_book_beam_limited_optimum(r):

@@ -225,8 +225,9 @@ def test_optimal_power_moves_with_the_margin_limit_by_the_closed_form(reports):
     for other in ("range resolution", "cross-range resolution at 750 m"):
         assert shadow[other]["d_objective_d_limit"] == 0.0
         assert post["dx_dlimit"][other]["electrical_power_w"]["value"] == 0.0
-    # the exact Hessian of the Lagrangian agrees with differences of the forward-mode gradient
-    assert post["hessian"] == "exact (jax.hessian)"
+    # the Hessian of the Lagrangian by differences of the exact forward-mode gradients, its
+    # estimate with half the step within 1e-6 (relative to its largest entry)
+    assert post["hessian"] == "central differences of forward-mode gradients"
     assert post["hessian_fd_rel_diff"] < 1e-6
 
 
@@ -262,7 +263,7 @@ def test_interior_optimum_sensitivities_equal_closed_form(tmp_path):
     # and dtheta*/db = -theta* ln10/10, dP*/db = -P* ln10/10, dF*/db = P* ln10/10.
     from diffsense.design.model import DesignModel
     from diffsense.report.batch import BatchEvaluator, row
-    from diffsense.report.inputs import design_inputs, input_evaluator
+    from diffsense.report.inputs import design_inputs
     from diffsense.report.jacobian import jacobian_section
     from diffsense.report.postoptimal import post_optimal_section
     from diffsense.design.spec import load_spec
@@ -274,7 +275,7 @@ def test_interior_optimum_sensitivities_equal_closed_form(tmp_path):
     path.write_text(text)
     model = DesignModel(load_spec(path))
     inputs = design_inputs(model, model.initial, 0)
-    batch = BatchEvaluator(model, inputs, 0)
+    batch = BatchEvaluator(model, model.initial, 0)
     v0 = np.array([i.value for i in inputs])
     m0 = float(row(batch(v0[None])[0], 0)[1][0])
     p0, b0, th0 = model.initial
@@ -282,11 +283,11 @@ def test_interior_optimum_sensitivities_equal_closed_form(tmp_path):
     th, p = w / (2 * k), w * w / (4 * k)
     x = np.array([p, b0, th])
     inputs = design_inputs(model, x, 0)
+    batch = BatchEvaluator(model, x, 0)
     outs = [{"unit": r.unit} for r in model.requirements] + [{"unit": "1"}]
     jac = jacobian_section(batch, inputs, outs)
     req = jac["values"][:-1]
-    post = post_optimal_section(model, inputs, input_evaluator(model, inputs, 0), batch, x, 0,
-                                jac["derivative"], req, np.array([1.0, 0.0, 0.0]))
+    post = post_optimal_section(model, inputs, batch, x, 0, jac["derivative"], req, np.array([1.0, 0.0, 0.0]), 1.0)
     assert post["method"].startswith("implicit function theorem")
     assert post["dx_dlimit"][0, 0] == pytest.approx(-p * LN10_10, rel=1e-8)
     assert post["dx_dlimit"][2, 0] == pytest.approx(-th * LN10_10, rel=1e-8)

@@ -80,10 +80,15 @@ from diffsense.sensors.radar.structure import (
     OPTIONS,
     PARTS,
     SURFACE_PARTS,
+    clutter_parts_present,
     looks_along_surface,
     option,
 )
-from diffsense.sensors.radar.tracking import tracking_outputs
+from diffsense.sensors.radar.tracking import TRACKING_OUTPUTS, tracking_outputs
+
+#: outputs that read the clutter (whose cell follows the received pulse's width) when it is present
+CLUTTER_OUTPUTS = ("scr_db", "scr_margin_db", "sinr_db", "detection_margin_db", "detection_range_m",
+                   "detection_range_found", "pd", "burn_through_range_m", "pulses_needed")
 
 __all__ = ["RadarChain", "PARTS", "OPTIONS", "ATTENUATION_PARTS", "CLUTTER_PARTS"]
 
@@ -123,7 +128,9 @@ class RadarChain(Chain):
         r0 = p["range_m"]
         lam = wavelength_m(p["freq_hz"])
         ant = antenna(scene, p, lam)
-        link = Link(scene, p, lam, ant)
+        clutter = clutter_parts_present(scene)
+        need_width = needs(wanted, "range_resolution_m", *TRACKING_OUTPUTS) or (clutter and needs(wanted, *CLUTTER_OUTPUTS))
+        link = Link(scene, p, lam, ant, need_width)
         interference = Interference(scene, p, link, lam, ant)
         req = required_snr(scene, p, wanted)
         req_scr = p["required_scr_db"] if interference.clutter_present else None
@@ -136,14 +143,15 @@ class RadarChain(Chain):
         budget = link.budget(r0)
         snr = budget.total
         s0, mp0 = link.signal_dbw(r0)
-        values = link_outputs(p, link, ant, lam, snr, s0)
+        values = link_outputs(p, link, ant, lam, snr, s0, wanted)
         if req.per_pulse_db is not None:
-            values.update(requirement_outputs(p, snr, req.per_pulse_db, margin_db(r0)))
+            margin0 = margin_db(r0) if needs(wanted, "detection_margin_db") else None
+            values.update(requirement_outputs(p, snr, req.per_pulse_db, margin0))
         values.update(self._ranges(scene, p, wanted, link, interference, margin_db, req.per_pulse_db))
         sjnr0 = interference.sjnr_db(r0, s0) if needs(wanted, "pd") else None
         values.update(pd_outputs(scene, p, wanted, snr, sjnr0, req))
-        values.update(interference.outputs(r0, s0, mp0, req_scr))
-        if scene.has("tracking"):
+        values.update(interference.outputs(r0, s0, mp0, req_scr, wanted))
+        if scene.has("tracking") and needs(wanted, *TRACKING_OUTPUTS):
             values.update(tracking_outputs(scene, p, snr, ant.beamwidth_az_rad, link.received_width_s))
         return Evaluation(budget, {name: values[name] for name in radar_outputs(scene) if name in values})
 

@@ -96,13 +96,16 @@ def detection_margin_db(required_snr_db, sjnr_db, required_scr_db=None, scr_db=N
 
 
 def requirement_outputs(p, snr_db, required_snr_db, margin_at_range_db):
-    """The required SNR and the margins at ``range_m`` (dB)."""
-    return {
+    """The required SNR and the margins at ``range_m`` (dB); the detection margin (which may need
+    the clutter) when it was computed (``margin_at_range_db`` not None)."""
+    values = {
         "required_snr_db": required_snr_db,
         "snr_margin_db": snr_db - required_snr_db,
         "faded_snr_margin_db": snr_db - p["rcs_fade_db"] - required_snr_db,
-        "detection_margin_db": margin_at_range_db,
     }
+    if margin_at_range_db is not None:
+        values["detection_margin_db"] = margin_at_range_db
+    return values
 
 
 def pd_outputs(scene, p, wanted, snr_db, sjnr_db, req: Requirement):

@@ -16,6 +16,7 @@ from diffsense.numerics.checks import is_concrete
 from diffsense.numerics.db import db10, power_sum_db
 from diffsense.physics.sea_clutter import sea_clutter_sigma0_db
 from diffsense.physics.waveforms import range_resolution_pulse_m
+from diffsense.sensors.chain import needs
 from diffsense.sensors.radar import equation as eq
 from diffsense.sensors.radar import parts
 from diffsense.sensors.radar.link_budget import Antenna, Link
@@ -112,21 +113,23 @@ class Interference:
             return signal_dbw - self._link.noise_dbw
         return signal_dbw - power_sum_db(self._link.noise_dbw, self.jamming_dbw(r))
 
-    def outputs(self, r0, signal_dbw, multipath_db, required_scr_db):
+    def outputs(self, r0, signal_dbw, multipath_db, required_scr_db, wanted=None):
         """SCR and its margin, S/J, S/(J+N) and S/(N+J+C) at the range ``r0`` (dB), for the
-        interference present."""
+        interference present, as far as ``wanted`` asks for them (the clutter cell follows the
+        received pulse's width, two root finds: :func:`diffsense.sensors.chain.needs`)."""
         values = {}
         noise_plus = self._link.noise_dbw
-        if self.clutter_present:
+        sinr = needs(wanted, "sinr_db") and (self.has_jammer or self.clutter_present)
+        if self.clutter_present and (sinr or needs(wanted, "scr_db", "scr_margin_db")):
             scr0 = self.scr_db(r0, multipath_db)
             values["scr_db"] = scr0
             values["scr_margin_db"] = scr0 - required_scr_db
-        if self.has_jammer:
+        if self.has_jammer and (sinr or needs(wanted, "sjr_db", "sjnr_db")):
             j0 = self.jamming_dbw(r0)
             values["sjr_db"] = signal_dbw - j0
             values["sjnr_db"] = self.sjnr_db(r0, signal_dbw)
             noise_plus = power_sum_db(noise_plus, j0)
-        if self.has_jammer or self.clutter_present:
+        if sinr:
             if self.clutter_present:
                 noise_plus = power_sum_db(noise_plus, signal_dbw - values["scr_db"])
             values["sinr_db"] = signal_dbw - noise_plus

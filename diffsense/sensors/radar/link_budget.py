@@ -39,7 +39,7 @@ from diffsense.physics.propagation.free_space import atmospheric_two_way_loss_db
 from diffsense.physics.propagation.refraction import radar_horizon_m
 from diffsense.physics.received_pulse import received_pulse_width_s
 from diffsense.physics.waveforms import duty_cycle, range_resolution_pulse_m, unambiguous_range_m, update_rate_hz
-from diffsense.sensors.chain import Budget, BudgetBuilder
+from diffsense.sensors.chain import Budget, BudgetBuilder, needs
 from diffsense.sensors.radar import equation as eq
 from diffsense.sensors.radar import parts
 from diffsense.sensors.radar.structure import option
@@ -154,12 +154,13 @@ class Link:
     """The budget of one radar scene: the range-independent terms, evaluated once, and the
     range terms as functions of R (m)."""
 
-    def __init__(self, scene, p, wavelength_m, ant: Antenna):
+    def __init__(self, scene, p, wavelength_m, ant: Antenna, need_width: bool = True):
         self.alphas = specific_attenuations_db_km(scene, p)
         self.multipath = _multipath_db(scene, p)
         mf_loss = matched_filter_loss_db(scene, p)
-        #: half-amplitude width of the echo after the IF filter (s): range resolution, gates, clutter cells
-        self.received_width_s = received_width_s(scene, p)
+        self._scene, self._p = scene, p
+        # the received pulse's width (two root finds) when an output asked for needs it
+        self._received_width_s = received_width_s(scene, p) if need_width else None
         self.const_terms = [
             ("peak_power_dbw", db10(p["peak_power_w"])),
             ("transmit_loss_db", -p["transmit_loss_db"]),
@@ -175,6 +176,16 @@ class Link:
         self.signal_const = sum(v for _, v in self.const_terms + self.loss_terms)
         #: receiver noise N = k T0 β F L_rx = k Ts β L_rx (dBW)
         self.noise_dbw = -sum(v for _, v in self.noise_terms)
+
+    @property
+    def received_width_s(self):
+        """Half-amplitude width of the echo after the IF filter (s): range resolution, gates,
+        clutter cells; computed with the budget when the chain's wanted outputs need it (else
+        computed anew on each use, never kept: a value traced inside a root find must not
+        outlive it)."""
+        if self._received_width_s is None:
+            return received_width_s(self._scene, self._p)
+        return self._received_width_s
 
     @property
     def alpha_total_db_km(self):
@@ -208,9 +219,10 @@ class Link:
         return bb.build()
 
 
-def link_outputs(p, link: Link, ant: Antenna, wavelength_m, snr_db, signal_dbw):
+def link_outputs(p, link: Link, ant: Antenna, wavelength_m, snr_db, signal_dbw, wanted=None):
     """The budget's own outputs at ``range_m`` and the waveform's (resolution, ambiguity, timing,
-    power), with the IF gain of book §8.16.12."""
+    power), with the IF gain of book §8.16.12; the range resolution (the received pulse's width,
+    two root finds) only when ``wanted`` asks for it (:func:`diffsense.sensors.chain.needs`)."""
     tau, prf = p["pulse_width_s"], p["prf_hz"]
     duty = duty_cycle(prf, tau)
     values = {
@@ -221,7 +233,6 @@ def link_outputs(p, link: Link, ant: Antenna, wavelength_m, snr_db, signal_dbw):
         "gain_db": ant.gain_db,
         "beamwidth_deg": jnp.rad2deg(ant.beamwidth_az_rad),
         "beamwidth_el_deg": jnp.rad2deg(ant.beamwidth_el_rad),
-        "range_resolution_m": range_resolution_pulse_m(link.received_width_s),
         "unambiguous_range_m": unambiguous_range_m(prf),
         "update_rate_hz": update_rate_hz(prf, p["n_pulses"]),
         "duty_cycle": duty,
@@ -229,6 +240,8 @@ def link_outputs(p, link: Link, ant: Antenna, wavelength_m, snr_db, signal_dbw):
         "if_gain_db": eq.if_gain_required_db(signal_dbw + 30.0, p["receive_loss_db"], p["mixer_loss_db"],
                                              p["rcs_fade_db"], p["tangential_sensitivity_dbm"], p["tss_margin_db"]),
     }
+    if needs(wanted, "range_resolution_m"):
+        values["range_resolution_m"] = range_resolution_pulse_m(link.received_width_s)
     if link.alphas:
         values["two_way_attenuation_db"] = eq.two_way_attenuation_db(p["range_m"], *link.alphas.values())
     return values

@@ -30,7 +30,13 @@ from diffsense.physics.waveforms import range_resolution_pulse_m
 from diffsense.sensors.radar import parts
 from diffsense.sensors.radar.structure import option
 
-__all__ = ["tracking_outputs"]
+__all__ = ["tracking_outputs", "TRACKING_OUTPUTS"]
+
+
+#: the outputs of :func:`tracking_outputs`
+TRACKING_OUTPUTS = ("track_beta", "range_noise_m", "range_variance_reduction", "range_track_noise_m", "range_lag_m",
+                    "range_track_error_m", "angle_noise_rad", "angle_lag_rad", "angle_error_rad",
+                    "cross_range_error_m", "servo_optimal_bandwidth_hz", "servo_resonance_ratio")
 
 
 def tracking_outputs(scene, p, snr_db, beamwidth_rad, received_width_s):

@@ -24,6 +24,11 @@ log-scaled ones) is orthogonal to the gradients of F and of every active require
 and the active requirements change by less than 1e-10 (scaled) along ±1e-3·z — a first- and
 second-order test. A unique optimum is returned unchanged.
 
+The solver meets the objective cap to its feasibility tolerance, which is measured in scaled
+variables and may exceed δ; the answer is then moved back along the segment from the first
+stage's answer (in ln x for log-scaled variables) to the nearest of a few points that meets the
+cap exactly (:func:`_within_cap`).
+
 Everything here runs through the optimiser's one lane program (:mod:`diffsense.design.problem`):
 the gradients and the values of the test are the linearisations of lanes whose box pins every
 variable at the point asked about, and the second stage is a lane whose stage input says so.
@@ -170,13 +175,37 @@ def canonical_optimum(model: DesignModel, x, combo_index: int, options: Optional
     lane = Lanes(np.append(x, t0)[None, :], _one(theta._replace(stage=stage)), lower[None, :], upper[None, :],
                  np.array([combo_index]))
     res = run.solve(lane, scale=variable_scales(model, lower, upper))
-    x2 = np.asarray(res.x[0, :-1], dtype=float)
+    x2, after = _within_cap(model, run, theta, x, np.asarray(res.x[0, :-1], dtype=float), f_cap)
+    if x2 is None:
+        return None
     rep = model.programs.reports(x2[None, :], [combo_index])[0]
-    after = _Linearised(model, run, theta, x2)
-    if not all(r["met"] for r in rep) or float(after.f[0]) > f_cap + 1e-12 * max(abs(f_star), 1.0):
+    if not all(r["met"] for r in rep):
         return None
     r2 = after.rows[0]
     return Canonical(x2, int(flat.shape[1]), float(np.min(-r0[inactive])), float(np.min(-r2[inactive])), RULE)
+
+
+#: fractions of the way from the first stage's answer to the second's tried by :func:`_within_cap`
+CAP_STEPS = (1.0, 0.999, 0.99, 0.9, 0.5, 0.1)
+
+
+def _within_cap(model: DesignModel, run, theta, x, x2, f_cap):
+    """The second stage's answer, or the point nearest to it on the segment from the first
+    stage's answer ``x`` (in y = ln x for log-scaled variables) whose objective is within the
+    cap and whose rows are met (the solver meets the cap only to its feasibility tolerance, in
+    scaled units, which may exceed the cap's 1e-9); ``(None, None)`` when no such point moves off
+    ``x``. Returns (point, its linearisation)."""
+    to_y = lambda v: np.where(model.log_scale, np.log(np.where(model.log_scale, v, 1.0)), v)  # noqa: E731
+    to_x = lambda y: np.where(model.log_scale, np.exp(y), y)  # noqa: E731
+    y0, y2 = to_y(x), to_y(x2)
+    points = np.stack([np.where(model.integer, x2, to_x(y0 + lam * (y2 - y0))) for lam in CAP_STEPS])
+    at = _Linearised(model, run, theta, points)
+    ok = (at.f <= f_cap) & np.all(at.rows[:, ~model.row_is_equality] <= 0.0, axis=1)
+    if not ok.any():
+        return None, None
+    k = int(np.argmax(ok))
+    one = _Linearised(model, run, theta, points[k])
+    return points[k], one
 
 
 def _one(tree):

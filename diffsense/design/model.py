@@ -349,6 +349,38 @@ class DesignModel:
         ev, slots = self.evaluate_with_slots(values, inputs, wanted)
         return self.row_values(values, inputs, ev, slots), self.objective_value(values, inputs, ev)
 
+    # --- traced: conveniences at the spec's numbers (notebooks, exploration) -------------------
+    def design_vector(self, x, combo):
+        """The input vector with design ``x`` and catalog row ``combo`` (its values, then its
+        cost), every other entry at the spec's value (traceable in x and combo; the spec's numbers
+        are constants of a function traced this way, unlike the compiled programs' inputs)."""
+        return self.layout.with_design(self.layout.values, x, jnp.asarray(combo)[:-1])
+
+    def evaluate_at(self, x, combo, wanted: Optional[Mapping[str, FrozenSet[str]]] = None) -> Dict[str, Evaluation]:
+        """Each case's evaluation at design ``x`` with catalog row ``combo`` (:meth:`evaluate`)."""
+        return self.evaluate(self.design_vector(x, combo), wanted)
+
+    def requirement_values_at(self, x, combo) -> jnp.ndarray:
+        """The requirement values at design ``x`` with catalog row ``combo``, each interval
+        requirement at the worst points a search finds there (their derivatives by the envelope
+        theorem: the points are held while differentiating). Traceable in x and combo."""
+        values = self.design_vector(x, combo)
+        inputs = self.inputs()._replace(cost=jnp.asarray(combo)[-1])
+        if self.intervals.indices:
+            found = self.intervals.search(jax.lax.stop_gradient(self.parameters(values)), inputs)
+            pts = []
+            for j in self.intervals.indices:
+                worst = jax.lax.stop_gradient(found[j][1])
+                extra = self.intervals.slots(j) - worst.shape[0]
+                pts.append(jnp.concatenate([worst, jnp.repeat(worst[:1], extra, axis=0)]))
+            inputs = inputs._replace(points=tuple(pts))
+        return self.requirement_values(self.row_values(values, inputs))
+
+    def objective_at(self, x, combo) -> jnp.ndarray:
+        """The objective as the spec states it at design ``x`` with catalog row ``combo``."""
+        inputs = self.inputs()._replace(cost=jnp.asarray(combo)[-1])
+        return self.objective_value(self.design_vector(x, combo), inputs)
+
     # --- traced: the design problem -----------------------------------------------------------
     def solve_values(self, x, s: SolveInputs):
         """The input vector of a solve: ``s``'s vector with the design ``x`` and its catalog row."""

@@ -36,6 +36,9 @@ from diffsense.sensors.chain import Budget, Evaluation
 
 #: input vectors per call of the evaluation program
 EVAL_ROWS = 8
+#: spec structures whose programs a process keeps
+SHARED_STRUCTURES = 8
+_SHARED: Dict[str, Dict[tuple, Program]] = {}
 #: input vectors per call of the search program
 SEARCH_ROWS = 8
 
@@ -67,11 +70,18 @@ class Programs:
     def __init__(self, model):
         self.model = model
         self.structure = repr(model.structure())
-        self._programs: Dict[tuple, Program] = {}
+        # programs are shared by every model of this structure in the process (a spec read
+        # again, the explorer's optimise and report buttons): the last few structures are kept
+        self._programs: Dict[tuple, Program] = _SHARED.pop(self.structure, {})
+        _SHARED[self.structure] = self._programs
+        while len(_SHARED) > SHARED_STRUCTURES:
+            _SHARED.pop(next(iter(_SHARED)))
         self._example = model.inputs()
         #: evaluate every design through the evaluation program (values and derivatives) instead
         #: of the check program (values only): set by a report, which needs the derivatives anyway
         self.tangents_everywhere = False
+        #: why the evaluation program (derivatives) cannot be built, when it cannot
+        self.tangents_error: Optional[str] = None
 
     # --- definitions -------------------------------------------------------------------------
     def _get(self, key: tuple, build) -> Program:
@@ -160,7 +170,13 @@ class Programs:
                 continue
             if name == "values":
                 name = "evaluation" if self.tangents_everywhere else "check"
-            getattr(self, name)().start()
+            try:
+                getattr(self, name)().start()
+            except NotImplementedError as exc:  # a derivative JAX lacks: values only (BatchEvaluator)
+                if name != "evaluation":
+                    raise
+                self.tangents_error = f"{type(exc).__name__}: {exc}"
+                self.tangents_everywhere = False
 
     # --- evaluation --------------------------------------------------------------------------
     def values_rows(self, V, inputs: Optional[DesignInputs] = None, per_row_inputs=None):

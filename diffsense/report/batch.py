@@ -36,8 +36,8 @@ class BatchEvaluator:
         self.values0 = self.values0[0]
         self.inputs = jax.tree_util.tree_map(lambda a: np.asarray(a)[0], inputs)
         self.n = self.values0.size
-        self.tangents_available = True
-        self.tangents_error = None
+        self.tangents_error = model.programs.tangents_error
+        self.tangents_available = self.tangents_error is None
 
     def __call__(self, V, T=None):
         V = np.atleast_2d(np.asarray(V, dtype=float))

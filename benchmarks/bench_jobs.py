@@ -41,7 +41,7 @@ DESIGNS = ROOT / "designs"
 JOBS = ("optimize", "evaluate", "report", "trade", "explore")
 STATES = ("empty", "filled", "edited")
 #: the design programs (their names in JAX's compilation log)
-PROGRAMS = ("lanes", "check", "evaluation", "search", "dense")
+PROGRAMS = ("lanes", "check", "outputs", "evaluation", "search", "dense")
 
 EXPLORE = """
 import sys, time
@@ -91,18 +91,20 @@ def command(job: str, spec: Path, out_dir: Path):
 
 
 def compile_counts(log: str) -> dict:
-    """Programs traced and compiled (without a persistent-cache hit), from JAX's log."""
+    """Programs XLA-compiled without a persistent-cache hit (JAX's log), programs traced (the
+    package's own program log: the others were loaded from the cache folder), and small
+    programs of operations run outside a compiled program ("eager")."""
     hits = set(re.findall(r"Persistent compilation cache hit for 'jit_([A-Za-z0-9_]+)'", log))
     compiled = re.findall(r"Finished XLA compilation of jit\(([A-Za-z0-9_<>]+)\)", log)
     named = [c for c in compiled if c in PROGRAMS and c not in hits]
     eager = [c for c in compiled if c not in PROGRAMS and c not in hits]
-    traced = [t for t in re.findall(r"Finished tracing \+ transforming ([A-Za-z0-9_<>]+) for pjit", log)
-              if t in PROGRAMS]
+    traced = re.findall(r"^program (\S+) traced", log, re.M)
     return {"compiled": named, "eager": len(eager), "traced": traced}
 
 
 def run(job: str, spec: Path, cache: Path, out_dir: Path) -> dict:
-    env = dict(os.environ, DIFFSENSE_CACHE_DIR=str(cache), JAX_LOG_COMPILES="1", PYTHONPATH=str(ROOT))
+    env = dict(os.environ, DIFFSENSE_CACHE_DIR=str(cache), JAX_LOG_COMPILES="1", DIFFSENSE_PROGRAM_LOG="1",
+               PYTHONPATH=str(ROOT))
     t0 = time.perf_counter()
     proc = subprocess.Popen(command(job, spec, out_dir), cwd=ROOT, env=env, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)

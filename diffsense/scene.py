@@ -95,6 +95,21 @@ def complete_parameters(scene: Scene, params: Mapping[str, object]) -> Dict[str,
     return out
 
 
+def compute(scene: Scene, params: Mapping[str, jnp.ndarray], wanted=None) -> Evaluation:
+    """The chain of ``scene`` at the complete parameter dict ``params`` with outputs ``wanted``
+    (None: every output), as a jitted call: inside a traced program the chain's Python code is
+    traced once per (scene, wanted, parameter shapes) and reused by every other call site and
+    program of the process (JAX keeps the traced sub-program), which shortens the tracing of
+    programs that evaluate a chain in several places. No domain check runs here: the values are
+    traced. Use :func:`evaluate` for a checked evaluation of concrete values."""
+    return _compute(dict(params), scene=scene, wanted=None if wanted is None else frozenset(wanted))
+
+
+@functools.partial(jax.jit, static_argnames=("scene", "wanted"))
+def _compute(params, scene, wanted):
+    return chain_for(scene).compute(scene, params, wanted=wanted)
+
+
 def evaluate(scene: Scene, params: Optional[Mapping[str, object]] = None, **kwargs) -> Evaluation:
     """Evaluate the chain of ``scene`` at the named parameters (keyword or mapping).
 

@@ -23,7 +23,7 @@ def load_model(design_file: Path, reporter: Reporter, *, starts: Optional[int] =
     corners of the box (:func:`diffsense.design.evaluable.check_evaluable`), so that values the
     chain rejects together, or cannot evaluate to a finite answer, are reported here. With
     ``starts`` the optimiser's programs begin compiling first (in background threads, while the
-    others are traced); ``tangents``: designs are evaluated with derivatives (a report)."""
+    others are traced); ``tangents``: the program of derivatives too (a report)."""
     from diffsense.design.evaluable import check_evaluable
     from diffsense.design.model import DesignModel
     from diffsense.design.optimizer import prepare
@@ -34,11 +34,10 @@ def load_model(design_file: Path, reporter: Reporter, *, starts: Optional[int] =
         with reporter.step(f"reading {clip(design_file)}"):
             spec = load_spec(design_file)
             model = DesignModel(spec)
-            model.programs.tangents_everywhere = tangents
         with reporter.step("compiling the design programs" if starts else "compiling the evaluation programs"):
             if starts:
                 prepare(model, n_starts=starts)
-            model.programs.start("values", "search", "dense")
+            model.programs.start("check", "search", "dense", *(("evaluation",) if tangents else ()))
         with reporter.step("checking the chain at the initial design and the box corners"):
             check_evaluable(model)
         return model
@@ -76,7 +75,7 @@ def evaluate(
     reporter = reporter_from(ctx)
     model = load_model(design_file, reporter)
     with reporter.step(f"evaluating the initial design ({len(model.requirements)} requirements)"):
-        record = design_record(model, model.initial, 0)
+        record = design_record(model, model.initial, 0, every_output=json_out is not None)
     check_probabilities(model, record, model.initial, 0, reporter)
     record["converged"] = None
     print_record(record, reporter, title_prefix="Evaluation: ")
@@ -103,7 +102,7 @@ def optimize(
                        f"({len(model.combinations)} catalog combinations x {starts} starts)"):
         result = optimize_design(model, n_starts=starts, seed=seed)
     with reporter.step("re-evaluating the optimum"):
-        record = design_record(model, result.x, result.combo_index)
+        record = design_record(model, result.x, result.combo_index, every_output=json_out is not None)
     check_probabilities(model, record, result.x, result.combo_index, reporter)
     record["converged"] = result.converged
     record["feasible"] = result.feasible

@@ -53,7 +53,7 @@ from jax.scipy.special import ndtr, ndtri
 
 from diffsense.design.spec.uncertain import TRUNCATE_SIGMAS, Distribution, Uncertainty
 from diffsense.optimize.multistart import sobol_points
-from diffsense.scene import chain_for
+from diffsense.scene import compute
 
 #: bandwidth of the smoothed quantile as a fraction of the sample's standard deviation
 BANDWIDTH = 0.02
@@ -162,12 +162,10 @@ def sampled_outputs(spec, case: str, params: dict, wanted, u, spreads=None) -> D
     """The outputs ``wanted`` of ``case`` at every row of the uniform points ``u`` (M, d)
     (output -> (M,)): the chain evaluated with the uncertain parameters drawn from each row."""
     scene = spec.scenes[case]
-    chain = chain_for(scene)
     table = spec.parameters[case]
 
     def one(row):
-        ev = chain.compute(scene, sample_parameters(spec.uncertain, table, params, row, spreads),
-                           wanted=frozenset(wanted))
+        ev = compute(scene, sample_parameters(spec.uncertain, table, params, row, spreads), frozenset(wanted))
         return {o: jnp.asarray(ev.values[o], dtype=float) for o in wanted}
 
     return jax.vmap(one)(u)

@@ -45,7 +45,7 @@ import numpy as np
 
 from diffsense.design.spec.types import Requirement
 from diffsense.optimize.semi_infinite import box, dense_points, worst_points_grouped
-from diffsense.scene import chain_for
+from diffsense.scene import compute
 
 #: points of the dense re-check of a requirement over an interval or box
 DENSE_POINTS = 10_001
@@ -130,8 +130,7 @@ class IntervalRequirements:
         p = dict(params)
         for k, name in enumerate(group.parameters):
             p[name] = q[k]
-        scene = self.spec.scenes[group.case]
-        values = chain_for(scene).compute(scene, p, wanted=frozenset(r.output for r in reqs)).values
+        values = compute(self.spec.scenes[group.case], p, frozenset(r.output for r in reqs)).values
         return jnp.stack([jnp.asarray(values[r.output], dtype=float) for r in reqs])
 
     def value_at(self, j: int, params: dict, q):
@@ -141,9 +140,7 @@ class IntervalRequirements:
         p = dict(params)
         for k, iv in enumerate(r.over):
             p[iv.parameter] = q[k]
-        scene = self.spec.scenes[r.case]
-        return jnp.asarray(chain_for(scene).compute(scene, p, wanted=frozenset({r.output})).values[r.output],
-                           dtype=float)
+        return jnp.asarray(compute(self.spec.scenes[r.case], p, frozenset({r.output})).values[r.output], dtype=float)
 
     def slot_values(self, params_by_case: dict, points) -> Dict[int, jnp.ndarray]:
         """Per interval requirement j, its output at each of its slots (K_j,) — ``points``: the

@@ -45,7 +45,7 @@ from diffsense.design.intervals import IntervalRequirements
 from diffsense.design.kinds import RequirementKinds
 from diffsense.design.layout import InputLayout
 from diffsense.design.spec import Spec
-from diffsense.scene import chain_for
+from diffsense.scene import compute
 from diffsense.sensors.chain import Evaluation
 
 # units in which a difference of 1 is a natural step (no normalisation by the limit)
@@ -233,9 +233,7 @@ class DesignModel:
         for case, p in self.parameters(values).items():
             if wanted is not None and case not in wanted:
                 continue
-            scene = self.spec.scenes[case]
-            chain = chain_for(scene)
-            res[case] = chain.compute(scene, p) if wanted is None else chain.compute(scene, p, wanted=wanted[case])
+            res[case] = compute(self.spec.scenes[case], p, None if wanted is None else wanted[case])
         return res
 
     def evaluate_with_slots(self, values, inputs: DesignInputs, wanted=None):
@@ -254,17 +252,15 @@ class DesignModel:
             if want is None and wanted is not None and not ivs:
                 continue
             scene = self.spec.scenes[case]
-            chain = chain_for(scene)
             if not ivs:
-                evaluations[case] = chain.compute(scene, p) if want is None else chain.compute(scene, p, wanted=want)
+                evaluations[case] = compute(scene, p, want)
                 continue
             if wanted is not None:
                 want = frozenset(want or ()) | frozenset(reqs[j].output for j in ivs)
             batch = self._slot_batch(p, ivs, inputs)
 
-            def at(q, p=p, scene=scene, chain=chain, want=want):
-                full = {**p, **q}
-                return chain.compute(scene, full) if want is None else chain.compute(scene, full, wanted=want)
+            def at(q, p=p, scene=scene, want=want):
+                return compute(scene, {**p, **q}, want)
 
             # only the ``over`` parameters are batched: what does not depend on them (a required
             # SNR, a received pulse width, ...) is computed once, not once per slot
@@ -333,19 +329,28 @@ class DesignModel:
             total = total + weights[k] * val
         return total
 
-    def evaluation(self, values, inputs: DesignInputs):
-        """``(evaluations, row values, requirement values, objective)`` with every output of every
-        case: what reports and the explorer show (the objective as the spec states it)."""
-        ev, slots = self.evaluate_with_slots(values, inputs)
+    def evaluation(self, values, inputs: DesignInputs, full: bool = True):
+        """``(evaluations, row values, requirement values, objective)``: with ``full`` every
+        output of every case (what reports and the explorer show), else each case's budget and
+        the outputs the requirements and the objective read (:attr:`requirement_outputs`,
+        :attr:`objective_outputs`); the objective as the spec states it."""
+        wanted = None if full else self.used_outputs()
+        ev, slots = self.evaluate_with_slots(values, inputs, wanted)
         rows = self.row_values(values, inputs, ev, slots)
         return ev, rows, self.requirement_values(rows), self.objective_value(values, inputs, ev)
+
+    def used_outputs(self) -> Dict[str, FrozenSet[str]]:
+        """Per case, the outputs the requirements and the objective read (every case listed)."""
+        wanted = {case: frozenset() for case in self.spec.scenes}
+        for source in (self.requirement_outputs, self.objective_outputs):
+            for case, names in source.items():
+                wanted[case] = wanted[case] | names
+        return wanted
 
     def design_functions(self, values, inputs: DesignInputs):
         """``(row values, objective)`` for a solve, from one evaluation of the outputs the
         requirements and the objective read (:meth:`evaluate_with_slots`)."""
-        wanted = dict(self.requirement_outputs)
-        for case, names in self.objective_outputs.items():
-            wanted[case] = wanted.get(case, frozenset()) | names
+        wanted = {case: names for case, names in self.used_outputs().items() if names}
         ev, slots = self.evaluate_with_slots(values, inputs, wanted)
         return self.row_values(values, inputs, ev, slots), self.objective_value(values, inputs, ev)
 

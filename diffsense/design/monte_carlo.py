@@ -125,7 +125,7 @@ def check_probabilities(model: DesignModel, x, combo, *, samples: Optional[int] 
     for start in range(0, n, CHUNK):
         rows = np.arange(start, min(start + CHUNK, n))
         padded = np.concatenate([rows, np.full(CHUNK - rows.size, rows[-1])])
-        v = np.asarray(fn(values, jnp.asarray(u[padded])))[:, : rows.size]
+        v = np.asarray(fn(values, u[padded]))[:, : rows.size]
         for k, j in enumerate(indices):
             r = model.requirements[j]
             ok = v[k] >= r.limit if r.sense == "at_least" else v[k] <= r.limit

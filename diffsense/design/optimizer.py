@@ -271,7 +271,7 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
     the number of lanes."""
     starts = _starts(model, n_starts, seed)
     run = prepare(model, n_starts=starts.shape[0], options=options, lockstep=lockstep)
-    model.programs.start("values", "search", "dense")
+    model.programs.start("check", "search", "dense")
     limits = tight_limits(model, margin)
     base = model.inputs()
     scale = objective_scale(model)

@@ -1,14 +1,17 @@
 """The compiled programs of a design model: one of each kind per spec structure.
 
-Everything a command does with a spec goes through at most four programs, each a pure function
+Everything a command does with a spec goes through a few programs, each a pure function
 of arrays (the spec's numbers are inputs, :mod:`diffsense.design.inputs`), traced once per
 structure and kept on disk (:mod:`diffsense.optimize.programs`):
 
-* ``evaluation`` — every output of every case, the requirement rows and values and the objective,
-  with their directional derivatives along given tangents of the input vector, for
-  :data:`EVAL_ROWS` input vectors at once (``vmap`` of ``jvp``). Reports, ``evaluate``,
-  ``trade``, the explorer and the optimiser's checks all read designs through it: values alone
-  are a zero tangent, a Jacobian is one row per input;
+* ``check`` — each case's budget, the outputs the requirements and the objective read, the
+  requirement rows and values and the objective, for :data:`EVAL_ROWS` input vectors at once
+  (values only): the optimiser's checks, the load-time check of the spec, ``evaluate`` and
+  ``optimize``'s printed record;
+* ``outputs`` — the same with every output of every case (``--json``, the explorer's numbers);
+* ``evaluation`` — every output with its directional derivatives along given tangents of the
+  input vector (``jvp``): reports and the explorer's Jacobian read designs through it (values
+  alone are a zero tangent, a Jacobian one row per input);
 * ``search`` — the worst points of every interval requirement (:mod:`diffsense.design.intervals`)
   for :data:`SEARCH_ROWS` input vectors at once;
 * ``dense`` — every interval requirement on its dense re-check grid, at one design;
@@ -46,6 +49,15 @@ for _cls in (DesignInputs, SolveInputs, Stage, Result, KKTResidual, Conflict, Sc
     register_serializable(_cls)
 
 
+def over_rows(fn):
+    """``fn`` over the leading axis of its arguments, one row after another (``lax.map``): the
+    rows are independent designs, and mapping them in sequence spares tracing the batched form
+    of the chain (a vmap's batching rule processes the chain's whole program)."""
+    def mapped(*args):
+        return jax.lax.map(lambda a: fn(*a), args)
+    return mapped
+
+
 def stack(trees):
     """The pytrees ``trees`` stacked along a new leading axis (NumPy)."""
     return jax.tree_util.tree_map(lambda *a: np.stack([np.asarray(x) for x in a]), *trees)
@@ -77,9 +89,6 @@ class Programs:
         while len(_SHARED) > SHARED_STRUCTURES:
             _SHARED.pop(next(iter(_SHARED)))
         self._example = model.inputs()
-        #: evaluate every design through the evaluation program (values and derivatives) instead
-        #: of the check program (values only): set by a report, which needs the derivatives anyway
-        self.tangents_everywhere = False
         #: why the evaluation program (derivatives) cannot be built, when it cannot
         self.tangents_error: Optional[str] = None
 
@@ -99,23 +108,26 @@ class Programs:
             def one(v, t, inputs):
                 return jax.jvp(lambda vv: model.evaluation(vv, inputs), (v,), (t,))
 
-            fn = jax.vmap(one)
+            fn = over_rows(one)
             V = np.zeros((EVAL_ROWS, len(model.layout)))
             return Program("evaluation", fn, (V, V, stack([self._example] * EVAL_ROWS)), self.structure,
                            preset="optimized", pool=compile_pool())
         return self._get(("evaluation",), build)
 
-    def check(self) -> Program:
+    def check(self, full: bool = False) -> Program:
         """``fn(V (k, n), inputs (k, …)) -> (evaluations, rows, requirement values, objective)``:
-        the values of :meth:`evaluation` without derivatives (a smaller program), k =
-        :data:`EVAL_ROWS`."""
+        values without derivatives, k = :data:`EVAL_ROWS`; each case's budget and the outputs
+        the requirements and objective read ("check"), or with ``full`` every output of every
+        case ("outputs", what :meth:`evaluation` computes)."""
         model = self.model
+        name = "outputs" if full else "check"
 
         def build():
             V = np.zeros((EVAL_ROWS, len(model.layout)))
-            return Program("check", jax.vmap(model.evaluation), (V, stack([self._example] * EVAL_ROWS)),
-                           self.structure, preset="optimized", pool=compile_pool())
-        return self._get(("check",), build)
+            fn = over_rows(lambda v, inputs: model.evaluation(v, inputs, full))
+            return Program(name, fn, (V, stack([self._example] * EVAL_ROWS)), self.structure, preset="optimized",
+                           pool=compile_pool())
+        return self._get((name,), build)
 
     def search(self) -> Program:
         """``fn(V (k, n), inputs (k, …)) -> per interval requirement (values (k, w), points
@@ -128,7 +140,7 @@ class Programs:
                 return tuple(found[j] for j in model.intervals.indices)
 
             V = np.zeros((SEARCH_ROWS, len(model.layout)))
-            return Program("search", jax.vmap(one), (V, stack([self._example] * SEARCH_ROWS)), self.structure,
+            return Program("search", over_rows(one), (V, stack([self._example] * SEARCH_ROWS)), self.structure,
                            preset="optimized", pool=compile_pool())
         return self._get(("search",), build)
 
@@ -163,32 +175,24 @@ class Programs:
         return self._get(("lanes", batch, options, lockstep), build)
 
     def start(self, *names: str) -> None:
-        """Begin exporting and compiling the named programs (those the model has; "values" is
-        the check program, or the evaluation program under :attr:`tangents_everywhere`)."""
+        """Begin exporting and compiling the named programs (those the model has)."""
         for name in names:
             if name in ("search", "dense") and not self.model.intervals.indices:
                 continue
-            if name == "values":
-                name = "evaluation" if self.tangents_everywhere else "check"
             try:
-                getattr(self, name)().start()
+                (self.check(True) if name == "outputs" else getattr(self, name)()).start()
             except NotImplementedError as exc:  # a derivative JAX lacks: values only (BatchEvaluator)
                 if name != "evaluation":
                     raise
                 self.tangents_error = f"{type(exc).__name__}: {exc}"
-                self.tangents_everywhere = False
 
     # --- evaluation --------------------------------------------------------------------------
-    def values_rows(self, V, inputs: Optional[DesignInputs] = None, per_row_inputs=None):
+    def values_rows(self, V, inputs: Optional[DesignInputs] = None, per_row_inputs=None, full: bool = False):
         """``(evaluations, rows, requirement values, objective)`` (NumPy, leading axis: the rows
-        of ``V``) at input vectors ``V``: by the check program, or by the evaluation program when
-        it is the one this model uses (:attr:`tangents_everywhere`, a report's, which then
-        compiles one program instead of two)."""
-        if self.tangents_everywhere:
-            return self.evaluate_rows(V, None, inputs, per_row_inputs)[0]
+        of ``V``) at input vectors ``V`` by the check program (``full``: the outputs program)."""
         V = np.atleast_2d(np.asarray(V, dtype=float))
         base = self._example if inputs is None else inputs
-        program = self.check()
+        program = self.check(full)
         parts = []
         for rows, padded in _padded(V.shape[0], EVAL_ROWS):
             th = stack([base] * EVAL_ROWS) if per_row_inputs is None else rows_of(per_row_inputs, padded)
@@ -235,18 +239,19 @@ class Programs:
         found = self.search_rows(np.asarray(values)[None, :], stack([inputs]))[0]
         return with_found_points(self.model, inputs, found), found
 
-    def evaluate_design(self, x, combo):
+    def evaluate_design(self, x, combo, full: bool = True):
         """``(evaluations, requirement values, raw objective, row values, inputs)`` at design
         ``x`` with catalog row ``combo`` (its values, then its cost): interval requirements at the
         worst points a search finds there; the objective in its minimised form (the spec's value
-        times its sign). NumPy results; ``inputs``: the θ used."""
+        times its sign); every output of every case (``full``) or those the requirements and
+        objective read. NumPy results; ``inputs``: the θ used."""
         model = self.model
         values = np.asarray(model.layout.values, dtype=float).copy()
         values[model.layout.variable_slots] = np.asarray(x, dtype=float)
         values[model.layout.catalog_slots] = np.asarray(combo, dtype=float)[:-1]
         inputs = model.inputs(values=values)._replace(cost=np.asarray(float(np.asarray(combo)[-1])))
         inputs, _ = self.searched(values, inputs)
-        ev, rows, req, obj = self.values_rows(values[None, :], inputs=inputs)
+        ev, rows, req, obj = self.values_rows(values[None, :], inputs=inputs, full=full)
         first = lambda tree: jax.tree_util.tree_map(lambda a: a[0], tree)  # noqa: E731
         return first(ev), req[0], float(obj[0]) * model.spec.objective.sign, rows[0], inputs
 
@@ -273,13 +278,14 @@ class Programs:
             inputs = stack([with_found_points(model, rows_of(inputs, i), f) for i, f in enumerate(found)])
         return V, inputs
 
-    def assess(self, xs, combos, tol: float = 1e-9) -> List[Tuple[dict, List[dict], float]]:
+    def assess(self, xs, combos, tol: float = 1e-9, full: bool = False) -> List[Tuple[dict, List[dict], float]]:
         """Per design ``xs`` (k, n_var) with catalog combination ``combos`` (k,): ``(evaluations,
-        requirement report, objective)`` — every case's evaluation (NumPy), the requirement rows
-        (:meth:`DesignModel.requirement_rows`, interval requirements at the search's worst points
-        and re-checked densely) and the objective as the spec states it."""
+        requirement report, objective)`` — every case's evaluation (NumPy; its budget and the
+        outputs the requirements and objective read, or every output with ``full``), the
+        requirement rows (:meth:`DesignModel.requirement_rows`, interval requirements at the
+        search's worst points and re-checked densely) and the objective as the spec states it."""
         V, inputs = self.design_inputs(xs, combos)
-        ev, _, req, obj = self.values_rows(V, per_row_inputs=inputs)
+        ev, _, req, obj = self.values_rows(V, per_row_inputs=inputs, full=full)
         req = np.asarray(req)
         out = []
         for i in range(V.shape[0]):
@@ -293,7 +299,7 @@ class Programs:
 
     def checked_values(self, x, combo):
         """``(requirement values, dense checks)`` at design ``x`` with catalog row ``combo``."""
-        _, req, _, _, inputs = self.evaluate_design(x, combo)
+        _, req, _, _, inputs = self.evaluate_design(x, combo, full=False)
         values = np.asarray(inputs.values)
         return req, self.dense_checks(values, inputs, req)
 

@@ -29,14 +29,15 @@ def design_table(model: DesignModel, x, combo_index: int) -> dict:
     return design
 
 
-def design_record(model: DesignModel, x, combo_index: int) -> dict:
+def design_record(model: DesignModel, x, combo_index: int, every_output: bool = True) -> dict:
     """JSON-ready description of one design: the design values with units, requirements,
-    objective, and per case the link budget and every output."""
+    objective, and per case the link budget and its outputs — every one, or (``every_output``
+    False, for a printed summary) those the requirements and the objective read."""
     spec = model.spec
     x = np.asarray(x, dtype=float)
     design = design_table(model, x, combo_index)
     choices = dict(model.combinations[combo_index].options)
-    evaluations, requirements, objective = model.programs.assess(x[None, :], [combo_index])[0]
+    evaluations, requirements, objective = model.programs.assess(x[None, :], [combo_index], full=every_output)[0]
     cases = {}
     for case, ev in evaluations.items():
         outs = spec.outputs[case]

@@ -7,16 +7,16 @@ or typing a fixed value only changes the numbers fed to the same compiled progra
 ``diffsense evaluate``, ``optimize`` and ``report`` use for the same spec
 (:mod:`diffsense.design.programs`, kept on disk between runs):
 
-* :meth:`ExplorerProgram.quick` — the *check* program (every case's outputs, the requirements,
+* :meth:`ExplorerProgram.quick` — the *outputs* program (every case's outputs, the requirements,
   the objective) with the interval requirements' values left NaN ("pending"), so that the page
   shows its numbers before the search program is compiled;
 * :meth:`ExplorerProgram.core` — the interval requirements' worst points by the *search*
-  program, then the check program at them;
+  program, then the outputs program at them;
 * :meth:`ExplorerProgram.extras` — ``sweeps``: per case with a numeric ``range_m`` input, the
   outputs ``snr_db``, ``required_snr_db``, ``pd`` and the main detection margin
   (:func:`diffsense.report.sweeps.main_margin`) on a grid of ranges (m); ``intervals``: per
   one-parameter interval requirement, its output on :data:`CURVE_POINTS` points of its
-  interval (both as rows of the check program, one input varied); ``jacobian``:
+  interval (both as rows of the outputs program, one input varied); ``jacobian``:
   d(requirement outputs, objective)/d(inputs) by the *evaluation* program's forward-mode
   derivatives (rows: the requirements in spec order, then the objective; columns: the inputs).
 """
@@ -96,7 +96,7 @@ class ExplorerProgram:
         """Begin compiling the program of the first numbers (:meth:`quick`) in a background
         thread; the others compile on first use (:meth:`core`, :meth:`extras`), which the page
         asks for after it is shown."""
-        self.model.programs.start("check")
+        self.model.programs.start("outputs")
 
     def _inputs(self, v, combo_index: int):
         inputs = self.model.inputs(combo_index, values=np.asarray(v, dtype=float))
@@ -105,7 +105,7 @@ class ExplorerProgram:
         return inputs
 
     def _values(self, v, inputs) -> dict:
-        ev, _, req, obj = self.model.programs.values_rows(np.asarray(v, dtype=float)[None, :], inputs)
+        ev, _, req, obj = self.model.programs.values_rows(np.asarray(v, dtype=float)[None, :], inputs, full=True)
         first = lambda tree: jax.tree_util.tree_map(lambda a: np.asarray(a)[0], tree)  # noqa: E731
         return {"evaluations": first(ev), "requirements": np.asarray(req[0], dtype=float),
                 "objective": float(np.asarray(obj)[0])}
@@ -150,7 +150,7 @@ class ExplorerProgram:
             programs = self.model.programs
             out = {"sweeps": {}, "intervals": {}}
             if rows:
-                ev = programs.values_rows(np.vstack(rows), inputs)[0]
+                ev = programs.values_rows(np.vstack(rows), inputs, full=True)[0]
                 start = 0
                 for (kind, key), block in zip(where, rows):
                     part = {c: jax.tree_util.tree_map(lambda a, s=start, n=len(block): np.asarray(a)[s:s + n], e)

@@ -14,7 +14,6 @@ from __future__ import annotations
 import warnings
 
 import jax.numpy as jnp
-import optimistix as optx
 from jax import lax
 
 from diffsense.optimize.al import (
@@ -56,6 +55,8 @@ def _inner_bfgs(fun, z, zlo, zhi, tol, options: SolverOptions):
     forward, inverse = box_reparameterisation(zlo, zhi)
     # optimistix stops on small steps and small f changes (Cauchy test), not on the gradient;
     # a 10x tighter test brings the projected gradient below ``tol`` on well-scaled problems
+    import optimistix as optx  # the nested BFGS only (imported on use: it is not the default)
+
     solver = optx.BFGS(rtol=0.1 * tol, atol=0.1 * tol)
     sol = optx.minimise(lambda y, _: fun(forward(y)), solver, inverse(z), None,
                         max_steps=options.max_inner, throw=False)

@@ -131,7 +131,9 @@ def solve_in_batches(solver, batch: int, *columns, alongside=None):
     for start in range(0, n, batch):
         rows = np.arange(start, min(start + batch, n))
         padded = np.concatenate([rows, np.full(batch - rows.size, rows[-1])])
-        args = tuple(jax.tree_util.tree_map(jnp.asarray, take(c, padded)) for c in columns)
+        # host arrays go to the compiled call as they are (jnp.asarray outside a trace would
+        # compile a small staging program per shape)
+        args = tuple(take(c, padded) for c in columns)
         if alongside is not None and start == 0:
             res = call_compiling_alongside(solver, args, alongside)
         else:

@@ -184,14 +184,20 @@ def start_points(problem: Problem, n_starts: int, *, seed: Optional[int] = 0, me
         raise DomainError("start_points: every variable needs a finite sampling range; pass box=(lower, upper)")
     if np.any(lo > hi):
         raise DomainError("start_points: the sampling box does not intersect the bounds")
-    sub = problem.with_bounds(lo, hi)
-    zlo, zhi = (np.asarray(v) for v in sub.scaled_bounds())
+    # the problem's scaled coordinates, in NumPy (host arrays in, host arrays out: no eager JAX)
+    scale = np.asarray(problem.scale, float)
+    log = np.asarray(problem.log_scale, bool)
+
+    def to_z(v):
+        return np.where(log, np.log(np.where(log, v, scale) / scale), v / scale)
+
+    zlo, zhi = to_z(lo), to_z(hi)
     if method == "sobol":
         u = sobol_points(n_starts, problem.n, seed=seed, scramble=True)
     else:
         u = latin_hypercube(n_starts, problem.n, seed=seed)
     z = zlo + u * (zhi - zlo)
-    x = np.asarray(problem.from_scaled(jnp.asarray(z)))
+    x = np.where(log, scale * np.exp(np.where(log, z, 0.0)), scale * z)
     return np.clip(x, lo, hi)
 
 

@@ -153,10 +153,12 @@ class Problem(eqx.Module):
         self.objective = objective
         self.inequality = inequality
         self.equality = equality
-        self.lower = jnp.asarray(lo)
-        self.upper = jnp.asarray(hi)
-        self.scale = jnp.asarray(s)
-        self.log_scale = jnp.asarray(logm)
+        # NumPy arrays: building a problem stages nothing on a device (traced code reads them as
+        # constants; with_bounds puts traced arrays in their place)
+        self.lower = np.asarray(lo, dtype=float)
+        self.upper = np.asarray(hi, dtype=float)
+        self.scale = np.asarray(s, dtype=float)
+        self.log_scale = np.asarray(logm, dtype=bool)
         self.integer_indices = tuple(int(i) for i in np.flatnonzero(intm))
         self.names = names
         self.combined = combined

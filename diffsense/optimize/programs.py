@@ -25,6 +25,7 @@ Pytree types that appear in a program's inputs or outputs must be registered for
 
 from __future__ import annotations
 
+import atexit
 import concurrent.futures
 import hashlib
 import json
@@ -48,6 +49,10 @@ _LOCK = threading.Lock()
 COMPILATIONS: Dict[str, int] = {}
 #: traces (exports) of each program name in this process
 TRACES: Dict[str, int] = {}
+#: every program built in this process, in order (for :func:`report_programs`)
+BUILT: list = []
+#: environment variable that makes a process print :func:`report_programs` to standard error at exit
+LOG_VARIABLE = "DIFFSENSE_PROGRAM_LOG"
 
 
 def code_version() -> str:
@@ -128,6 +133,9 @@ class Program:
         self.loaded_from_disk = False
         self.export_seconds: Optional[float] = None
         self.compile_seconds: Optional[float] = None
+        #: operations in the traced module (StableHLO, before XLA's passes), when traced here
+        self.operations: Optional[int] = None
+        BUILT.append(self)
 
     def _exported(self) -> "jax.export.Exported":
         t0 = time.perf_counter()
@@ -151,6 +159,8 @@ class Program:
         fn = self.fn
         named = _named(fn, self.name)
         exported = jax.export.export(jax.jit(named))(*self.avals)
+        if os.environ.get(LOG_VARIABLE):
+            self.operations = exported.mlir_module().count("stablehlo.")
         if path is not None:
             try:
                 _write_atomically(path, exported.serialize())
@@ -204,6 +214,26 @@ def _named(fn, name: str):
     return program
 
 
+def report_programs() -> str:
+    """One line per program built in this process: name, traced or loaded from the cache folder,
+    seconds to trace (or load) and to compile (or load from XLA's cache), operations traced."""
+    lines = []
+    for p in BUILT:
+        how = "loaded" if p.loaded_from_disk else ("traced" if p.export_seconds is not None else "unused")
+        lines.append(f"program {p.name} {how} export_s={p.export_seconds or 0:.2f} "
+                     f"compile_s={p.compile_seconds or 0:.2f} ops={p.operations if p.operations is not None else '-'}")
+    return "\n".join(lines)
+
+
+def _report_at_exit() -> None:
+    if os.environ.get(LOG_VARIABLE) and BUILT:
+        import sys
+
+        print(report_programs(), file=sys.stderr)
+
+
+atexit.register(_report_at_exit)
+
 _POOL: Optional[concurrent.futures.ThreadPoolExecutor] = None
 
 
@@ -216,6 +246,6 @@ def compile_pool() -> concurrent.futures.ThreadPoolExecutor:
     return _POOL
 
 
-__all__ = ["Program", "register_serializable", "code_version", "cache_folder", "compile_pool", "COMPILATIONS",
-           "TRACES"]
+__all__ = ["Program", "register_serializable", "code_version", "cache_folder", "compile_pool", "report_programs",
+           "COMPILATIONS", "TRACES", "LOG_VARIABLE"]
 

@@ -52,6 +52,7 @@ from typing import NamedTuple
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jax.flatten_util import ravel_pytree
 
 from diffsense.errors import DomainError
@@ -104,9 +105,15 @@ def _lagrangian_phys(problem: Problem, x, lam, nu, theta):
     return problem.f(x, theta) + jnp.dot(lam, problem.g(x, theta)) + jnp.dot(nu, problem.h(x, theta))
 
 
-def _masks(n: int, k: int, free, active):
-    free = jnp.ones((n,), bool) if free is None else jnp.asarray(free, bool)
-    active = jnp.ones((k,), bool) if active is None else jnp.asarray(active, bool)
+def _xp(*arrays):
+    """NumPy when every array given is a host array (a report's linear algebra: no eager JAX
+    dispatch, which would compile a small program per operation), else jax.numpy (traced)."""
+    return np if all(a is None or isinstance(a, (np.ndarray, np.generic, float, int)) for a in arrays) else jnp
+
+
+def _masks(n: int, k: int, free, active, xp=jnp):
+    free = xp.ones((n,), bool) if free is None else xp.asarray(free, bool)
+    active = xp.ones((k,), bool) if active is None else xp.asarray(active, bool)
     return free, active
 
 
@@ -115,14 +122,15 @@ def kkt_matrix(hessian, jacobian, free=None, active=None):
     free variables and the constraint Jacobian A (k × n) on the active rows and free columns,
     identity rows and columns for the other variables and constraints (``free``, ``active``:
     boolean masks, default all). Nonsingular exactly when the reduced system is."""
-    W, A = jnp.asarray(hessian), jnp.asarray(jacobian)
+    xp = _xp(hessian, jacobian, free, active)
+    W, A = xp.asarray(hessian), xp.asarray(jacobian)
     n, k = W.shape[0], A.shape[0]
-    free, active = _masks(n, k, free, active)
-    W_m = jnp.where(free[:, None] & free[None, :], W, 0.0) + jnp.diag(jnp.where(free, 0.0, 1.0))
-    A_m = jnp.where(active[:, None] & free[None, :], A, 0.0)
-    top = jnp.concatenate([W_m, A_m.T], axis=1)
-    bottom = jnp.concatenate([A_m, jnp.diag(jnp.where(active, 0.0, 1.0))], axis=1)
-    return jnp.concatenate([top, bottom], axis=0)
+    free, active = _masks(n, k, free, active, xp)
+    W_m = xp.where(free[:, None] & free[None, :], W, 0.0) + xp.diag(xp.where(free, 0.0, 1.0))
+    A_m = xp.where(active[:, None] & free[None, :], A, 0.0)
+    top = xp.concatenate([W_m, A_m.T], axis=1)
+    bottom = xp.concatenate([A_m, xp.diag(xp.where(active, 0.0, 1.0))], axis=1)
+    return xp.concatenate([top, bottom], axis=0)
 
 
 def active_set_derivative(hessian, jacobian, d_stationarity, d_constraints, *, free=None, active=None):
@@ -144,8 +152,9 @@ def active_set_derivative(hessian, jacobian, d_stationarity, d_constraints, *, f
     >>> [float(v) for v in dy], [float(v) for v in dmu]
     ([0.5, 0.5], [-0.5])
     """
-    A = jnp.asarray(jacobian)
-    r, c = jnp.asarray(d_stationarity), jnp.asarray(d_constraints)
+    xp = _xp(hessian, jacobian, d_stationarity, d_constraints, free, active)
+    A = xp.asarray(jacobian)
+    r, c = xp.asarray(d_stationarity), xp.asarray(d_constraints)
     k, n = A.shape
     trailing = r.shape[1:]
     q = math.prod(trailing)
@@ -154,10 +163,10 @@ def active_set_derivative(hessian, jacobian, d_stationarity, d_constraints, *, f
         if free is not None or active is not None or n != k:
             raise DomainError("active_set_derivative: without a Hessian the active constraints must be as many as "
                               f"the variables (a vertex), unmasked; got {k} constraints, {n} variables")
-        return -jnp.linalg.solve(A, c2).reshape((n,) + trailing), None
-    free, active = _masks(n, k, free, active)
-    rhs = jnp.concatenate([jnp.where(free[:, None], r2, 0.0), jnp.where(active[:, None], c2, 0.0)], axis=0)
-    sol = -jnp.linalg.solve(kkt_matrix(hessian, A, free, active), rhs)
+        return -xp.linalg.solve(A, c2).reshape((n,) + trailing), None
+    free, active = _masks(n, k, free, active, xp)
+    rhs = xp.concatenate([xp.where(free[:, None], r2, 0.0), xp.where(active[:, None], c2, 0.0)], axis=0)
+    sol = -xp.linalg.solve(kkt_matrix(hessian, A, free, active), rhs)
     return sol[:n].reshape((n,) + trailing), sol[n:].reshape((k,) + trailing)
 
 
@@ -172,9 +181,10 @@ def stationarity_multipliers(gradient, jacobian):
     >>> float(mu[0]), float(res)
     (1.0, 0.0)
     """
-    g, A = jnp.asarray(gradient), jnp.asarray(jacobian)
-    mu = jnp.linalg.lstsq(A.T, -g)[0]
-    residual = jnp.max(jnp.abs(g + A.T @ mu), initial=0.0) / jnp.maximum(jnp.max(jnp.abs(g), initial=0.0), 1e-300)
+    xp = _xp(gradient, jacobian)
+    g, A = xp.asarray(gradient), xp.asarray(jacobian)
+    mu = xp.linalg.lstsq(A.T, -g, rcond=None)[0] if xp is np else xp.linalg.lstsq(A.T, -g)[0]
+    residual = xp.max(xp.abs(g + A.T @ mu), initial=0.0) / xp.maximum(xp.max(xp.abs(g), initial=0.0), 1e-300)
     return mu, residual
 
 

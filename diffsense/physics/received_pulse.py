@@ -27,7 +27,7 @@ equivalent filter is cut off at β/2. With x = β τ:
 
 The width reported is the **half-amplitude (−6 dB) width** of y: the time between the two
 crossings of y = y_max/2, found by a safeguarded Newton iteration on each side of the maximum
-(:func:`diffsense.numerics.rootfind.decreasing_root_log`, differentiable implicitly). This
+(:func:`diffsense.numerics.rootfind.decreasing_root_log`; differentiated implicitly). This
 convention makes the ideal matched filter's triangle exactly τ wide and the unfiltered pulse
 (β → ∞) τ wide, so the range resolution reduces to the book's c τ / 2 in both limits (book
 §8.16.3, eq (11.4)); a narrow filter (β τ ≪ 1) stretches the echo to about its own impulse
@@ -105,11 +105,12 @@ def _series_terms(n: int) -> int:
     return j
 
 
+@partial(jax.custom_jvp, nondiff_argnums=(0,))
 def _gamma_p(n: int, u):
     """P(n, u) for u > 0 and 0 for u <= 0, with a finite derivative everywhere, in closed form
     for the integer n of a tuned cascade (A&S 6.5.13 and 6.5.29), without an iterative special
     function: below u = n the power series ``exp(−u) u^n/n! Σ_j u^j n!/(n + j)!`` (positive
-    terms, no cancellation where P is small; Horner's scheme, :func:`_series_terms` terms),
+    terms, no cancellation where P is small; :func:`_series_terms` terms),
     above it ``1 − exp(−u) Σ_{k<n} u^k/k!`` (where P ≥ 1/2 the subtraction loses nothing).
     Relative error below 1e-15 for n ≤ 5."""
     positive = u > 0.0
@@ -122,6 +123,17 @@ def _gamma_p(n: int, u):
     series = jnp.exp(-s) * s**n / math.factorial(n) * acc
     upper = jnp.exp(-v) * sum(v**k / math.factorial(k) for k in range(n))
     return jnp.where(positive, jnp.where(low, series, 1.0 - upper), 0.0)
+
+
+@_gamma_p.defjvp
+def _gamma_p_jvp(n, primals, tangents):
+    """dP(n, u)/du = u^(n−1) e^(−u) / (n − 1)! (the Gamma(n, 1) density; 0 for u <= 0): the
+    closed form, so that a derivative does not go through the series."""
+    (u,), (du,) = primals, tangents
+    positive = u > 0.0
+    v = jnp.where(positive, u, 1.0)
+    density = jnp.where(positive, jnp.exp(-v) * v ** (n - 1) / math.factorial(n - 1), 0.0)
+    return _gamma_p(n, u), density * du
 
 
 def _tuned_peak_u(w, n: int):
@@ -178,11 +190,14 @@ def _crossings(x, filter: str):
         w = 2.0 * jnp.pi * x * tuned_circuit_corner_frequency_hz(1.0, n)  # ω0 τ
         u_peak = _tuned_peak_u(w, n)
         half = 0.5 * _tuned_envelope(u_peak, w, n)
-        rise = decreasing_root_log(lambda u: half - _tuned_envelope(u, w, n), 1e-9 * u_peak, u_peak,
-                                   iterations=_ROOT_ITERATIONS, differentiable=False).root
-        fall = decreasing_root_log(lambda u: _tuned_envelope(u, w, n) - half, u_peak, u_peak + w + 60.0 + 10.0 * n,
-                                   iterations=_ROOT_ITERATIONS, differentiable=False).root
-        return w, rise, fall
+        # both crossings in one root find (elementwise over [rise, fall]; one loop in the program):
+        # the envelope rises to its peak and falls after it
+        falling = jnp.array([-1.0, 1.0])
+        lo = jnp.stack([1e-9 * u_peak, u_peak])
+        hi = jnp.stack([u_peak, u_peak + w + 60.0 + 10.0 * n])
+        roots = decreasing_root_log(lambda u: falling * (_tuned_envelope(u, w, n) - half), lo, hi,
+                                    iterations=_ROOT_ITERATIONS, differentiable=False).root
+        return w, roots[0], roots[1]
     half = 0.5 * _centred_envelope(0.0, x, filter)
     s = decreasing_root_log(lambda s: _centred_envelope(s, x, filter) - half, 1e-9 * (1.0 + x), 0.5 * x + 3.0,
                             iterations=_ROOT_ITERATIONS, differentiable=False).root

@@ -49,8 +49,7 @@ class BatchEvaluator:
             except (NotImplementedError, TypeError, ValueError) as exc:
                 self.tangents_available = False
                 self.tangents_error = f"{type(exc).__name__}: {exc}"
-                programs.tangents_everywhere = False
-        ev, _, req, obj = programs.values_rows(V, self.inputs)
+        ev, _, req, obj = programs.values_rows(V, self.inputs, full=True)
         values = (ev, req, obj)
         return values, jax.tree_util.tree_map(lambda a: np.full(np.shape(a), np.nan), values)
 

@@ -73,9 +73,7 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
     if model is None:
         model = DesignModel(load_spec(spec_path))
     spec = model.spec
-    # a report needs derivatives: every design goes through the evaluation program
-    model.programs.tangents_everywhere = True
-    model.programs.start("evaluation", "search", "dense")
+    model.programs.start("evaluation", "check", "search", "dense")
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     unavailable: List[dict] = []

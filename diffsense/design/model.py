@@ -340,9 +340,11 @@ class DesignModel:
         return ev, rows, self.requirement_values(rows), self.objective_value(values, inputs, ev)
 
     def used_outputs(self) -> Dict[str, FrozenSet[str]]:
-        """Per case, the outputs the requirements and the objective read (every case listed)."""
+        """Per case, the outputs the requirements (of every kind: at the case's own values too)
+        and the objective read (every case listed)."""
         wanted = {case: frozenset() for case in self.spec.scenes}
-        for source in (self.requirement_outputs, self.objective_outputs):
+        every = self._outputs_by_case((r.case, r.output) for r in self.requirements)
+        for source in (every, self.objective_outputs):
             for case, names in source.items():
                 wanted[case] = wanted[case] | names
         return wanted

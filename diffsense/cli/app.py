@@ -58,7 +58,7 @@ def _configure_jax() -> None:
     cache = os.environ.setdefault("DIFFSENSE_CACHE_DIR",
                                   os.path.join(os.path.expanduser("~"), ".cache", "diffsense", "xla"))
     jax.config.update("jax_compilation_cache_dir", cache)
-    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
 
 
 def main(argv=None) -> None:

@@ -34,7 +34,6 @@ from diffsense.design.inputs import DesignInputs, SolveInputs, Stage
 from diffsense.design.intervals import EXTRA_SLOTS, IntervalCheck
 from diffsense.optimize.options import SolverOptions
 from diffsense.optimize.programs import Program, compile_pool, register_serializable
-from diffsense.optimize.result import Conflict, KKTResidual, Result, Scales
 from diffsense.sensors.chain import Budget, Evaluation
 
 #: input vectors per call of the evaluation program
@@ -45,7 +44,7 @@ _SHARED: Dict[str, Dict[tuple, Program]] = {}
 #: input vectors per call of the search program
 SEARCH_ROWS = 8
 
-for _cls in (DesignInputs, SolveInputs, Stage, Result, KKTResidual, Conflict, Scales, Evaluation, Budget):
+for _cls in (DesignInputs, SolveInputs, Stage, Evaluation, Budget):
     register_serializable(_cls)
 
 

@@ -221,9 +221,13 @@ def trade_design(model: DesignModel, *, points: Optional[int] = None, margin: fl
                                                 {k: _row(e, i) for k, e in ev.items()}) * objectives.signs
                          for i, c in enumerate(groups)])
 
+    # the step program depends on the model's structure and on the trade objectives (their
+    # weights are constants of it): traced once per such structure, kept on disk
+    structure = repr((model.structure(), [(t, list(w), o.sign) for t, w, o in
+                                          zip(objectives.terms, objectives.weights, objectives.objectives)]))
     front = trace_front(problem, minimised, thetas,
                         np.tile(model.initial, (C, 1)), points=points or trade.points,
-                        options=options or SolverOptions(), lockstep=lockstep, values=values)
+                        options=options or SolverOptions(), lockstep=lockstep, values=values, structure=structure)
     recs = _points(model, objectives, front, limits)
     good = [r for r in recs if r["converged"] and r["met"]]
     dropped = {"unconverged": sum(not r["converged"] for r in recs),

@@ -63,6 +63,7 @@ from diffsense.optimize.kkt import kkt_max
 from diffsense.optimize.lanes import solve_in_batches, take
 from diffsense.optimize.options import SolverOptions
 from diffsense.optimize.problem import Problem
+from diffsense.optimize.programs import LazyProgram, register_serializable
 from diffsense.optimize.sensitivity import linearised_kkt
 
 #: relative slack of an anchor's own objective in its lexicographic second solve
@@ -85,6 +86,9 @@ class Scalarization(NamedTuple):
     bounds: jax.Array
     bounded: jax.Array
     scales: Optional[jax.Array] = None
+
+
+register_serializable(Scalarization)
 
 
 def scalarized_problem(problem: Problem, objectives: Callable, scales=None) -> Problem:
@@ -117,7 +121,7 @@ def scalarized_problem(problem: Problem, objectives: Callable, scales=None) -> P
 
 
 def _build_step(problem: Problem, objectives: Callable, options: SolverOptions, lockstep: Optional[int],
-                tangent: bool):
+                tangent: bool, structure: Optional[str] = None):
     sproblem = scalarized_problem(problem, objectives)
 
     def one(x0, theta, lower, upper, next_bounds):
@@ -137,6 +141,8 @@ def _build_step(problem: Problem, objectives: Callable, options: SolverOptions, 
     def run(x0, theta, lower, upper, next_bounds):
         return map_in_lockstep(one, (x0, theta, lower, upper, next_bounds), lockstep)
 
+    if structure is not None:
+        return LazyProgram("front", run, f"{structure}\n{options!r}\n{lockstep!r}\n{tangent!r}")
     return jit_with_options(run, "optimized")
 
 
@@ -147,7 +153,7 @@ PROGRAM_CACHE_SIZE = 16
 
 
 def step_program(problem: Problem, objectives: Callable, options: SolverOptions,
-                 lockstep: Union[int, str, None] = "auto", tangent: bool = True):
+                 lockstep: Union[int, str, None] = "auto", tangent: bool = True, structure: Optional[str] = None):
     """Jitted ``fn(x0, theta, lower, upper, next_bounds) -> (Result, x̂)`` over lanes (leading
     axis of every argument) of the ε-constraint problem of ``objectives`` over ``problem``
     (:func:`scalarized_problem`, scales traced in θ): each lane's solve and the predicted start
@@ -157,14 +163,17 @@ def step_program(problem: Problem, objectives: Callable, options: SolverOptions,
     The program is built once per (``problem``, ``objectives`` — the same objects —,
     ``options``, ``lockstep``, ``tangent``) and kept (the last :data:`PROGRAM_CACHE_SIZE`):
     starts, θ (the ε values, weights, scales), boxes and predictions are its arguments, so a
-    second front of the same problem compiles nothing."""
+    second front of the same problem compiles nothing. ``structure``: a description of
+    everything the two functions compute besides their arguments (e.g. a design model's
+    structure and the objectives' terms and weights); given, the program is traced once per
+    structure and kept on disk (:mod:`diffsense.optimize.programs`)."""
     k = resolve_lockstep(lockstep)
-    key = (id(problem), id(objectives), options, k, bool(tangent))
+    key = (id(problem), id(objectives), options, k, bool(tangent), structure)
     hit = _PROGRAMS.get(key)
     if hit is not None and hit[0] is problem and hit[1] is objectives:
         _PROGRAMS.move_to_end(key)
         return hit[2]
-    program = _build_step(problem, objectives, options, k, bool(tangent))
+    program = _build_step(problem, objectives, options, k, bool(tangent), structure)
     _PROGRAMS[key] = (problem, objectives, program)
     while len(_PROGRAMS) > PROGRAM_CACHE_SIZE:
         _PROGRAMS.popitem(last=False)
@@ -245,11 +254,12 @@ class _Sweep:
     """State of :func:`trace_front`: the compiled step, the lanes' θ and boxes, and counters;
     every call solves ``batch`` lanes (one compiled shape)."""
 
-    def __init__(self, problem, objectives, options, lockstep, thetas, scales, lower, upper, K, m, batch):
-        self.tangent = True
-        self.step = step_program(problem, objectives, options, lockstep)
+    def __init__(self, problem, objectives, options, lockstep, thetas, scales, lower, upper, K, m, batch,
+                 structure=None, tangent=True):
+        self.tangent = bool(tangent)
+        self.step = step_program(problem, objectives, options, lockstep, tangent=self.tangent, structure=structure)
         self._fallback = lambda: step_program(problem, objectives, dataclasses.replace(options, polish=False),
-                                              lockstep, tangent=False)
+                                              lockstep, tangent=False, structure=structure)
         self.thetas, self.scales, self.lower, self.upper = thetas, np.asarray(scales, float), lower, upper
         self.K, self.m, self.batch = K, m, batch
         self.calls = self.trips = 0
@@ -344,7 +354,8 @@ _VALUES: dict = {}
 
 def trace_front(problem: Problem, objectives: Callable, thetas, x0, *, points: int = 30, scales=None,
                 options: Optional[SolverOptions] = None, lockstep: Union[int, str, None] = "auto",
-                values: Optional[Callable] = None) -> Front:
+                values: Optional[Callable] = None, structure: Optional[str] = None,
+                tangent: bool = True) -> Front:
     """Trace the Pareto front of ``objectives(x, θ) -> (K,)`` (minimised, K ≥ 2) over
     ``problem``'s feasible set for every group (module docstring).
 
@@ -356,7 +367,9 @@ def trace_front(problem: Problem, objectives: Callable, thetas, x0, *, points: i
     through one program compiled per (``problem``, ``objectives``) (:func:`step_program`):
     pass the same function objects to reuse it. ``values``: ``fn(x (N, n), groups (N,)) -> F
     (N, K)``, the objectives at solved points (by a program the caller has already compiled;
-    default: a vmapped ``objectives``, compiled here)."""
+    default: a vmapped ``objectives``, compiled here). ``structure``: see :func:`step_program`.
+    ``tangent`` False predicts each next point by the secant of the last two (K = 2) instead of
+    the KKT tangent (no second derivatives in the program: a much smaller one)."""
     x0 = np.atleast_2d(np.asarray(x0, dtype=float))
     G = x0.shape[0]
     if values is None:
@@ -375,7 +388,7 @@ def trace_front(problem: Problem, objectives: Callable, thetas, x0, *, points: i
     lower = np.broadcast_to(np.asarray(problem.lower), x0.shape).copy()
     upper = np.broadcast_to(np.asarray(problem.upper), x0.shape).copy()
     sweep = _Sweep(problem, objectives, options or SolverOptions(polish=True), lockstep, thetas, scales, lower,
-                   upper, K, m, G * K)
+                   upper, K, m, G * K, structure=structure, tangent=tangent)
     anchors, FA = _anchors(sweep, x0, values)
     FA = FA.reshape(G, K, K)
     ax_x = anchors.x.reshape(G, K, -1)

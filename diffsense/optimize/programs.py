@@ -40,6 +40,7 @@ import jax
 import numpy as np
 
 from diffsense.optimize.compile import compiler_options
+from diffsense.optimize.result import Conflict, KKTResidual, Result, Scales
 
 _PACKAGE = Path(__file__).resolve().parents[1]
 _CODE_VERSION: Optional[str] = None
@@ -135,6 +136,8 @@ class Program:
         self.compile_seconds: Optional[float] = None
         #: operations in the traced module (StableHLO, before XLA's passes), when traced here
         self.operations: Optional[int] = None
+        #: the program needs a derivative JAX lacks (its trace raised NotImplementedError)
+        self.unsupported = False
         BUILT.append(self)
 
     def _exported(self) -> "jax.export.Exported":
@@ -147,6 +150,11 @@ class Program:
     def _export_or_load(self) -> "jax.export.Exported":
         folder = cache_folder()
         path = None if folder is None else folder / f"{self.name}-{self.key}.jaxexport"
+        unsupported = None if path is None else path.with_suffix(".unsupported")
+        if unsupported is not None and unsupported.exists():
+            # an earlier trace of this program met a derivative JAX lacks: say so again at once
+            self.unsupported = True
+            raise NotImplementedError(unsupported.read_text(errors="replace"))
         if path is not None and path.exists():
             try:
                 exported = jax.export.deserialize(bytearray(path.read_bytes()))
@@ -158,7 +166,16 @@ class Program:
             TRACES[self.name] = TRACES.get(self.name, 0) + 1
         fn = self.fn
         named = _named(fn, self.name)
-        exported = jax.export.export(jax.jit(named))(*self.avals)
+        try:
+            exported = jax.export.export(jax.jit(named))(*self.avals)
+        except NotImplementedError as exc:
+            self.unsupported = True
+            if unsupported is not None:
+                try:
+                    _write_atomically(unsupported, str(exc).encode())
+                except OSError:
+                    pass
+            raise
         if os.environ.get(LOG_VARIABLE):
             self.operations = exported.mlir_module().count("stablehlo.")
         if path is not None:
@@ -206,6 +223,21 @@ class Program:
         return self.compiled()(*args)
 
 
+class LazyProgram:
+    """A :class:`Program` whose example arguments are those of its first call (for callers that
+    learn the shapes only then); same keying, disk cache and compilation."""
+
+    def __init__(self, name: str, fn: Callable, structure: str, preset: str = "optimized"):
+        self.name, self.fn, self.structure, self.preset = name, fn, structure, preset
+        self._programs: Dict[str, Program] = {}
+
+    def __call__(self, *args):
+        shapes = repr(jax.tree_util.tree_map(lambda a: (np.shape(a), str(np.asarray(a).dtype)), args))
+        if shapes not in self._programs:
+            self._programs[shapes] = Program(self.name, self.fn, args, self.structure, self.preset)
+        return self._programs[shapes](*args)
+
+
 def _named(fn, name: str):
     """``fn`` under the name ``name`` (what JAX's compilation log and profiles show)."""
     def program(*args):
@@ -219,7 +251,8 @@ def report_programs() -> str:
     seconds to trace (or load) and to compile (or load from XLA's cache), operations traced."""
     lines = []
     for p in BUILT:
-        how = "loaded" if p.loaded_from_disk else ("traced" if p.export_seconds is not None else "unused")
+        how = ("unsupported" if p.unsupported else "loaded" if p.loaded_from_disk
+               else "traced" if p.export_seconds is not None else "unused")
         lines.append(f"program {p.name} {how} export_s={p.export_seconds or 0:.2f} "
                      f"compile_s={p.compile_seconds or 0:.2f} ops={p.operations if p.operations is not None else '-'}")
     return "\n".join(lines)
@@ -234,6 +267,10 @@ def _report_at_exit() -> None:
 
 atexit.register(_report_at_exit)
 
+# the solvers' result types travel in and out of compiled programs
+for _cls in (Result, KKTResidual, Conflict, Scales):
+    register_serializable(_cls)
+
 _POOL: Optional[concurrent.futures.ThreadPoolExecutor] = None
 
 
@@ -246,6 +283,6 @@ def compile_pool() -> concurrent.futures.ThreadPoolExecutor:
     return _POOL
 
 
-__all__ = ["Program", "register_serializable", "code_version", "cache_folder", "compile_pool", "report_programs",
+__all__ = ["Program", "LazyProgram", "register_serializable", "code_version", "cache_folder", "compile_pool", "report_programs",
            "COMPILATIONS", "TRACES", "LOG_VARIABLE"]
 

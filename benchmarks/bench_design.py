@@ -53,10 +53,13 @@ import numpy as np
 
 import diffsense  # noqa: F401
 from diffsense.design.model import DesignModel
-from diffsense.design.optimizer import _tight_limits, build_problem, lane_grid, lane_solver
+from diffsense.design.optimizer import _starts, tight_limits
+from diffsense.design.problem import design_problem, requirement_problem, variable_scales
+from diffsense.design.programs import stack
+from diffsense.design.runner import objective_scale
 from diffsense.design.spec import load_spec
 from diffsense.optimize import SolverOptions, make_batch_solver, solve
-from diffsense.optimize.multistart import start_points
+from diffsense.optimize.lanes import lane_program
 
 ROOT = _support.ROOT
 _median_time = _support.median_time
@@ -73,11 +76,9 @@ def _setup(spec_path):
             if "Gunn" in " ".join(c.options.values()):
                 combo = c.index
     combo = 0 if combo is None else combo
-    problem = build_problem(model)
-    limits = _tight_limits(model, 1e-7)
-    theta = (jnp.asarray(model.combo_table[combo]), jnp.asarray(limits), jnp.asarray(model.initial),
-             jnp.zeros(len(model.initial), dtype=bool))
-    return model, combo, problem, theta
+    problem = requirement_problem(model)
+    theta = model.solve_inputs(model.inputs(combo), combo, tight_limits(model, 1e-7), objective_scale(model))
+    return model, combo, problem, jax.tree_util.tree_map(jnp.asarray, theta)
 
 
 def _violation(model, x, combo):
@@ -87,6 +88,11 @@ def _violation(model, x, combo):
 
 def _objective(model, x, combo):
     return float(model.evaluate_all(x, model.combo_table[combo])[2])
+
+
+def _batched(theta, B):
+    """θ repeated over a leading axis of B specs."""
+    return jax.tree_util.tree_map(lambda a: jnp.broadcast_to(a, (B,) + jnp.shape(a)), theta)
 
 
 def make_ours(model, problem, theta, options):
@@ -220,11 +226,10 @@ def batch_throughput(model, combo, problem, theta, sizes, layouts=BATCH_LAYOUTS)
     for method, label, lockstep in layouts:
         fn = make_batch_solver(problem, SolverOptions(method=method, polish=False), lockstep=lockstep)
         for B in sizes:
-            lims = np.tile(np.asarray(theta[1]), (B, 1))
-            lims[:, 0] = lims[:, 0] + np.linspace(-3.0, 1.0, B) * model.scales[0]
+            lims = np.tile(np.asarray(theta.limits), (B, 1))
+            lims[:, 0] = lims[:, 0] + model.sign[0] * np.linspace(-3.0, 1.0, B) * model.scales[0]
             x0 = jnp.asarray(np.tile(model.initial, (B, 1)))
-            th = (jnp.broadcast_to(theta[0], (B,) + theta[0].shape), jnp.asarray(lims), x0,
-                  jnp.broadcast_to(theta[3], (B,) + theta[3].shape))
+            th = _batched(theta, B)._replace(limits=jnp.asarray(lims))
             t = time.perf_counter()
             r = jax.block_until_ready(fn(x0, th))
             tc = time.perf_counter() - t
@@ -246,17 +251,35 @@ def cli_cold_start(spec_path):
             print(f"{label:32s} {time.perf_counter() - t:7.1f} s  exit {p.returncode}")
 
 
+def _lane_arguments(model, starts):
+    """The arguments (x0, θ, lower, upper, scale) of the design problem's lane program for
+    every (start, combination) lane, start-major, as the optimiser's first step builds them."""
+    n_c = len(model.combinations)
+    x0 = np.repeat(starts, n_c, axis=0)
+    L = x0.shape[0]
+    combos = np.tile(np.arange(n_c), starts.shape[0])
+    base, limits, scale = model.inputs(), tight_limits(model, 1e-7), objective_scale(model)
+    theta = stack([model.solve_inputs(base, int(c), limits, scale) for c in combos])
+    zeros = np.zeros((L, 1))
+    lower = np.hstack([np.broadcast_to(model.lower, x0.shape), zeros])
+    upper = np.hstack([np.broadcast_to(model.upper, x0.shape), zeros])
+    scales = np.broadcast_to(variable_scales(model), lower.shape)
+    return tuple(jax.tree_util.tree_map(jnp.asarray, a)
+                 for a in (np.hstack([x0, zeros]), theta, lower, upper, scales))
+
+
 def lanes_in_lockstep(model, problem, n_starts=8, layouts=("sequence", "combinations", "all")):
     print("\n== 5. design optimiser's first step: all (start, combination) lanes in one call ==")
-    starts = np.vstack([model.initial[None, :], start_points(problem, n_starts - 1, seed=0, method="lhs")])
+    starts = _starts(model, n_starts, 0)
     n_c, n_s = len(model.combinations), starts.shape[0]
-    args = tuple(jnp.asarray(c) for c in lane_grid(model, starts, _tight_limits(model, 1e-7)))
+    args = _lane_arguments(model, starts)
+    problem = design_problem(model)
     print(f"{'lanes per vmap':>24s} {'compile s':>9s} {'run s':>7s} {'converged':>9s}")
     rows = []
     lockstep = {"sequence": ("1 (in sequence)", 1), "combinations": (f"{n_c} (combinations)", n_c),
                 "all": (f"{n_s * n_c} (all)", None)}
     for label, k in (lockstep[name] for name in layouts):
-        fn = lane_solver(problem, SolverOptions(polish=False), k)
+        fn = jax.jit(lane_program(problem, SolverOptions(polish=False), k))
         t = time.perf_counter()
         jax.block_until_ready(fn(*args))
         tc = time.perf_counter() - t

@@ -16,7 +16,10 @@ Steps (every solve a lane of one compiled program, :meth:`Programs.lanes`):
 3. **Near misses.** Each answer is re-evaluated exactly. The solver's feasibility tolerance
    applies to its internally scaled constraints, so an answer may miss a requirement by
    slightly more than ``margin``; such near misses are re-solved from where they stand with
-   those limits tightened by ten times the miss, up to three times.
+   those limits tightened by ten times the miss, up to three times. An answer that meets every
+   requirement but stopped short of a tightened limit (by more than :data:`FINISH_TOL`, within
+   the solver's feasibility tolerance) is re-solved from where it stands too when the solver
+   polishes (``SolverOptions.polish``), so that the margin it reports is the one asked for.
 4. **Choice.** The feasible combination with the lowest objective wins. When no combination is
    feasible the least-infeasible answer is returned with ``feasible`` False and the
    requirements it leaves unmet.
@@ -83,6 +86,10 @@ def tight_limits(model: DesignModel, margin: float) -> np.ndarray:
 
 _tight_limits = tight_limits  # former private name
 
+#: an answer meeting every requirement is finished (re-solved from where it stands) when it
+#: misses a tightened limit by more than this (scaled units)
+FINISH_TOL = 1e-10
+
 
 class _Answers(NamedTuple):
     """The current answer of each catalog combination (rows: combinations) and its θ."""
@@ -144,28 +151,46 @@ def _scaled_misses(model: DesignModel, report) -> np.ndarray:
     return np.array([max(-r["slack"], 0.0) / scale for r, scale in zip(report, model.scales)])
 
 
+def _tight_misses(model: DesignModel, limits, report) -> np.ndarray:
+    """Per inequality requirement, by how much (scaled units) a report misses its tightened
+    limit (``limits``, :func:`tight_limits`); 0 when met or an equality."""
+    values = np.array([r["value"] for r in report], dtype=float)
+    miss = model.sign * (values - limits) / model.scales
+    return np.where(model.is_equality, 0.0, np.maximum(miss, 0.0))
+
+
 def _resolve_near_misses(model: DesignModel, run: Runner, limits, best: _Answers, reports):
-    """Step 3: re-solve answers that miss a requirement by at most 1e-3 (scaled) from where they
-    stand, integers pinned, with the missed limits tightened by ten times the miss; keep a
-    re-solve that misses less. Returns the answers and their requirement reports."""
+    """Step 3: re-solve, from where they stand with integers pinned, answers that miss a
+    requirement by at most 1e-3 (scaled; the missed limits tightened by ten times the miss) or
+    that meet every requirement but miss a tightened limit by more than :data:`FINISH_TOL`
+    (same limits, with the polish on: the solver stopped at its feasibility tolerance; from
+    there it polishes onto the limit); keep a re-solve that misses less — the requirements first, then the tightened
+    limits. Returns the answers and their requirement reports."""
     x, conv, lam = best.x.copy(), best.converged.copy(), best.lam.copy()
-    theta = best.theta
+    thetas = [rows_of(best.theta, c) for c in range(x.shape[0])]
+
+    def misses(rep):
+        return _scaled_misses(model, rep).sum(), _tight_misses(model, limits, rep).sum()
+
     for _ in range(3):
         miss = np.array([_scaled_misses(model, rep) for rep in reports])
-        near = np.flatnonzero((miss.max(axis=1) > 0) & (miss.max(axis=1) <= 1e-3))
+        tight = np.array([_tight_misses(model, limits, rep).max(initial=0.0) for rep in reports])
+        worst = miss.max(axis=1, initial=0.0)
+        unfinished = (worst == 0) & (tight > FINISH_TOL) & run.options.polish
+        near = np.flatnonzero(((worst > 0) & (worst <= 1e-3)) | unfinished)
         if near.size == 0:
             break
         tighter = limits[None, :] - model.sign * (10.0 * miss[near]) * model.scales * (~model.is_equality)
         lo, hi = pin_variables(model.lower, model.upper, x[near], model.integer)
         lower, upper = run.boxes(lo, hi, n=near.size)
-        th = rows_of(theta, near)
-        th = th._replace(limits=tighter)
-        _, res = run.settle(Lanes(x[near], th, lower, upper, near))
+        th = stack([thetas[c] for c in near])._replace(limits=tighter)
+        lanes, res = run.settle(Lanes(x[near], th, lower, upper, near))
         new_reports = model.programs.reports(res.x, near)
         for k, c in enumerate(near):
-            if _scaled_misses(model, new_reports[k]).sum() < miss[c].sum():
+            if misses(new_reports[k]) < misses(reports[c]):
                 x[c], reports[c], conv[c], lam[c] = res.x[k], new_reports[k], res.converged[k], res.lam[k]
-    return _Answers(x, conv, lam, theta), reports
+                thetas[c] = rows_of(lanes.theta, k)._replace(limits=np.asarray(limits))
+    return _Answers(x, conv, lam, stack(thetas)), reports
 
 
 def _missed_points(model: DesignModel, reports) -> dict:

@@ -91,6 +91,12 @@ class Programs:
         #: why the evaluation program (derivatives) cannot be built, when it cannot
         self.tangents_error: Optional[str] = None
 
+    @property
+    def example_inputs(self) -> DesignInputs:
+        """The model's θ at the spec's numbers (:meth:`DesignModel.inputs`): the shapes every
+        program is traced for."""
+        return self._example
+
     # --- definitions -------------------------------------------------------------------------
     def _get(self, key: tuple, build) -> Program:
         if key not in self._programs:
@@ -191,13 +197,7 @@ class Programs:
         of ``V``) at input vectors ``V`` by the check program (``full``: the outputs program)."""
         V = np.atleast_2d(np.asarray(V, dtype=float))
         base = self._example if inputs is None else inputs
-        program = self.check(full)
-        parts = []
-        for rows, padded in _padded(V.shape[0], EVAL_ROWS):
-            th = stack([base] * EVAL_ROWS) if per_row_inputs is None else rows_of(per_row_inputs, padded)
-            out = program(V[padded], th)
-            parts.append(jax.tree_util.tree_map(lambda a, n=rows.size: np.asarray(a)[:n], out))
-        return jax.tree_util.tree_map(lambda *a: np.concatenate(a, axis=0), *parts)
+        return self._rows(self.check(full), V, None, base, per_row_inputs)
 
     def evaluate_rows(self, V, T=None, inputs: Optional[DesignInputs] = None, per_row_inputs=None):
         """``(values, tangents)`` (NumPy, leading axis: the rows of ``V``) of the evaluation
@@ -205,16 +205,25 @@ class Programs:
         row with ``inputs`` (default: the model's, :meth:`DesignModel.inputs`) or its own
         (``per_row_inputs``, a batch of k)."""
         V = np.atleast_2d(np.asarray(V, dtype=float))
-        k = V.shape[0]
         T = np.zeros_like(V) if T is None else np.atleast_2d(np.asarray(T, dtype=float))
         base = self._example if inputs is None else inputs
-        program = self.evaluation()
-        parts = []
-        for rows, padded in _padded(k, EVAL_ROWS):
-            th = stack([base] * EVAL_ROWS) if per_row_inputs is None else rows_of(per_row_inputs, padded)
-            out = program(V[padded], T[padded], th)
-            parts.append(jax.tree_util.tree_map(lambda a, n=rows.size: np.asarray(a)[:n], out))
-        return jax.tree_util.tree_map(lambda *a: np.concatenate(a, axis=0), *parts)
+        return self._rows(self.evaluation(), V, T, base, per_row_inputs)
+
+    @staticmethod
+    def _rows(program, V, T, base, per_row_inputs):
+        """``program`` over the rows of ``V`` (and ``T``) in calls of :data:`EVAL_ROWS` rows, all
+        dispatched before any result is copied to the host; results concatenated (NumPy)."""
+        shared = stack([base] * EVAL_ROWS) if per_row_inputs is None else None
+        parts, counts = [], []
+        for rows, padded in _padded(V.shape[0], EVAL_ROWS):
+            th = shared if per_row_inputs is None else rows_of(per_row_inputs, padded)
+            out = program(V[padded], th) if T is None else program(V[padded], T[padded], th)
+            parts.append(out)
+            counts.append(rows.size)
+        parts = jax.device_get(parts)
+        if len(parts) == 1:
+            return jax.tree_util.tree_map(lambda a: np.asarray(a)[:counts[0]], parts[0])
+        return jax.tree_util.tree_map(lambda *a: np.concatenate([x[:n] for x, n in zip(a, counts)], axis=0), *parts)
 
     def search_rows(self, V, per_row_inputs):
         """Per row of ``V`` and per interval requirement, the search's ``(values (w,), points

@@ -16,9 +16,10 @@ or typing a fixed value only changes the numbers fed to the same compiled progra
   outputs ``snr_db``, ``required_snr_db``, ``pd`` and the main detection margin
   (:func:`diffsense.report.sweeps.main_margin`) on a grid of ranges (m); ``intervals``: per
   one-parameter interval requirement, its output on :data:`CURVE_POINTS` points of its
-  interval (both as rows of the outputs program, one input varied); ``jacobian``:
-  d(requirement outputs, objective)/d(inputs) by the *evaluation* program's forward-mode
-  derivatives (rows: the requirements in spec order, then the objective; columns: the inputs).
+  interval; ``jacobian``: d(requirement outputs, objective)/d(inputs) in forward mode (rows:
+  the requirements in spec order, then the objective; columns: the inputs) — all by one call of
+  the explorer's own *extras* program (only the outputs the curves draw are computed, every
+  row in one vmap), compiled in the background after the page is shown and kept on disk.
 """
 
 from __future__ import annotations
@@ -27,11 +28,13 @@ import threading
 from typing import Dict, List, Optional
 
 import jax
+import jax.numpy as jnp
 import numpy as np
 
 from diffsense.design.model import DesignModel
 from diffsense.design.programs import with_found_points
 from diffsense.design.layout import Input
+from diffsense.optimize.programs import Program, compile_pool
 from diffsense.report.sweeps import input_index, main_margin
 
 #: outputs drawn against range, when the case has them
@@ -91,6 +94,7 @@ class ExplorerProgram:
         self.extras_ready = False
         self._compiling = threading.Lock()
         self._points = None  # the interval slots of the last search (its worst points)
+        self._extras = None  # (rows, the extras' program)
 
     def start(self) -> None:
         """Begin compiling the program of the first numbers (:meth:`quick`) in a background
@@ -131,45 +135,86 @@ class ExplorerProgram:
             return self._values(v, inputs)
         return self._first("core_ready", run)
 
+    def _blocks(self, grids=None) -> List[tuple]:
+        """The row blocks of the extras: per swept range input, then per one-parameter interval
+        requirement, ``(kind, key, input index, size, wanted)`` — ``wanted`` the outputs that
+        block draws (case -> frozenset; static), ``size`` its rows (``grids``: the sweeps' grids,
+        default :data:`SWEEP_POINTS` each)."""
+        blocks = []
+        for i, k in enumerate(self.sweep_inputs):
+            cases = [case for case, kk in self.sweep_cases.items() if kk == k]
+            wanted = {case: frozenset(n for n in SWEEP_OUTPUTS + (self.margin_outputs[case],) if n is not None)
+                      for case in cases}
+            size = SWEEP_POINTS if grids is None else len(grids[i])
+            blocks.append(("sweep", k, k, size, wanted))
+        for j in self.interval_requirements:
+            r = self.model.requirements[j]
+            blocks.append(("interval", j, self.interval_inputs[j], len(self.interval_grids[j]),
+                           {r.case: frozenset([r.output])}))
+        return blocks
+
+    def _rows(self, v0, grids) -> np.ndarray:
+        """The input vectors of every block (:meth:`_blocks`; one input varied over its grid:
+        a range sweep's or an interval requirement's parameter), stacked."""
+        parts = []
+        for (kind, key, k, size, _), grid in zip(self._blocks(grids),
+                                                 list(grids) + [self.interval_grids[j] for j in self.interval_requirements]):
+            block = np.repeat(v0[None, :], size, axis=0)
+            block[:, k] = grid
+            parts.append(block)
+        return np.vstack(parts) if parts else np.zeros((0, v0.size))
+
+    def _extras_program(self, sizes: tuple) -> Program:
+        """``fn(rows, v (n,), θ) -> (curves, jacobian)``: per block (:meth:`_blocks`, of
+        ``sizes`` rows) the outputs it draws at its rows — only those computed, each block's rows
+        in one vmap — and d(requirement values, objective)/d(inputs) at ``v`` in forward mode;
+        one program per spec structure and block sizes."""
+        model = self.model
+        wanted = [b[4] for b in self._blocks()]
+
+        def outputs(w):
+            def at(v):
+                ev = model.evaluate(v, w)
+                return {case: {n: ev[case].values[n] for n in sorted(names) if n in ev[case].values}
+                        for case, names in w.items()}
+            return at
+
+        def stacked(v, inputs):
+            _, _, req, obj = model.evaluation(v, inputs, False)
+            return jnp.concatenate([jnp.atleast_1d(req), jnp.atleast_1d(obj)])
+
+        def fn(rows, v, inputs):
+            curves, start = [], 0
+            for w, size in zip(wanted, sizes):
+                curves.append(jax.vmap(outputs(w))(rows[start:start + size]))
+                start += size
+            return curves, jax.jacfwd(stacked)(v, inputs)
+
+        n = len(model.layout)
+        key = model.programs.structure + repr(([sorted((c, sorted(x)) for c, x in w.items()) for w in wanted], sizes))
+        example = (np.zeros((sum(sizes), n)), np.zeros(n), model.programs.example_inputs)
+        return Program("explorer", fn, example, key, preset="optimized", pool=compile_pool())
+
     def extras(self, v, combo_index: int, grids) -> dict:
-        """Sweeps, interval curves and Jacobian at ``v`` (NumPy); compiles on first use."""
+        """Sweeps, interval curves and Jacobian at ``v`` (NumPy) by one call of the extras'
+        program (:meth:`_extras_program`); compiles on first use."""
         def run():
             v0 = np.asarray(v, dtype=float)
-            inputs = self._inputs(v0, combo_index)
-            rows, where = [], []
-            for k, grid in zip(self.sweep_inputs, grids):
-                block = np.repeat(v0[None, :], len(grid), axis=0)
-                block[:, k] = grid
-                rows.append(block)
-                where.append(("sweep", k))
-            for j in self.interval_requirements:
-                block = np.repeat(v0[None, :], len(self.interval_grids[j]), axis=0)
-                block[:, self.interval_inputs[j]] = self.interval_grids[j]
-                rows.append(block)
-                where.append(("interval", j))
-            programs = self.model.programs
-            out = {"sweeps": {}, "intervals": {}}
-            if rows:
-                ev = programs.values_rows(np.vstack(rows), inputs, full=True)[0]
-                start = 0
-                for (kind, key), block in zip(where, rows):
-                    part = {c: jax.tree_util.tree_map(lambda a, s=start, n=len(block): np.asarray(a)[s:s + n], e)
-                            for c, e in ev.items()}
-                    start += len(block)
-                    if kind == "sweep":
-                        for case, kk in self.sweep_cases.items():
-                            if kk != key:
-                                continue
-                            names = [n for n in SWEEP_OUTPUTS + (self.margin_outputs[case],)
-                                     if n is not None and n in part[case].values]
-                            out["sweeps"][case] = {n: np.asarray(part[case].values[n]) for n in names}
-                    else:
-                        r = self.model.requirements[key]
-                        out["intervals"][key] = np.asarray(part[r.case].values[r.output])
-            n = v0.size
-            (_, _, req, obj), (_, _, req_t, obj_t) = programs.evaluate_rows(np.repeat(v0[None, :], n, axis=0),
-                                                                             np.eye(n), inputs)
-            out["jacobian"] = np.vstack([np.asarray(req_t).T, np.asarray(obj_t)[None, :]])
+            blocks = self._blocks(grids)
+            sizes = tuple(b[3] for b in blocks)
+            if self._extras is None or self._extras[0] != sizes:
+                self._extras = (sizes, self._extras_program(sizes))
+            curves, jac = jax.device_get(self._extras[1](self._rows(v0, grids), v0, self._inputs(v0, combo_index)))
+            out = {"sweeps": {}, "intervals": {}, "jacobian": np.asarray(jac)}
+            for (kind, key, _, _, wanted), curve in zip(blocks, curves):
+                if kind == "sweep":
+                    for case in wanted:
+                        out["sweeps"][case] = {n: np.asarray(curve[case][n])
+                                               for n in SWEEP_OUTPUTS + (self.margin_outputs[case],)
+                                               if n is not None and n in curve[case]}
+                else:
+                    r = self.model.requirements[key]
+                    out["intervals"][key] = np.asarray(curve[r.case][r.output])
             return out
         return self._first("extras_ready", run)
 

@@ -100,6 +100,9 @@ def polish_newton(model: ScaledModel, z, lam, nu, grad, G, options: SolverOption
     def step(_, s):
         J, r = jax.jacfwd(eqs, has_aux=True)(s)
         d = jnp.linalg.solve(J, -r)
+        # a singular J (duplicated active constraints: interval slots at one point) has
+        # consistent equations: their least-squares (minimum-norm) step
+        d = jnp.where(jnp.all(jnp.isfinite(d)), d, jnp.linalg.lstsq(J, -r)[0])
         s_new = s + d
         return jnp.where(jnp.all(jnp.isfinite(s_new)), s_new, s)
 

@@ -20,7 +20,12 @@ compilation log, ``JAX_LOG_COMPILES=1``: a compilation that hit the persistent c
 count; ``eager`` counts the small programs of operations run outside a compiled program), and the
 exit code.
 
+``--code DIR`` runs the jobs with the package from another checkout (``PYTHONPATH=DIR``, e.g. a
+``git worktree`` of an earlier commit) to set the table beside an earlier version's in one run;
+the explorer job needs the current session API and is skipped then.
+
 Run: python benchmarks/bench_jobs.py [--quick] [--designs ore_pass,fire_control] [--jobs optimize,report]
+     [--code DIR]
 """
 
 from __future__ import annotations
@@ -41,7 +46,7 @@ DESIGNS = ROOT / "designs"
 JOBS = ("optimize", "evaluate", "report", "trade", "explore")
 STATES = ("empty", "filled", "edited")
 #: the design programs (their names in JAX's compilation log)
-PROGRAMS = ("lanes", "check", "outputs", "evaluation", "search", "dense")
+PROGRAMS = ("lanes", "check", "outputs", "evaluation", "search", "dense", "front", "explorer")
 
 EXPLORE = """
 import sys, time
@@ -102,23 +107,23 @@ def compile_counts(log: str) -> dict:
     return {"compiled": named, "eager": len(eager), "traced": traced}
 
 
-def run(job: str, spec: Path, cache: Path, out_dir: Path) -> dict:
+def run(job: str, spec: Path, cache: Path, out_dir: Path, code: Path = ROOT) -> dict:
     env = dict(os.environ, DIFFSENSE_CACHE_DIR=str(cache), JAX_LOG_COMPILES="1", DIFFSENSE_PROGRAM_LOG="1",
-               PYTHONPATH=str(ROOT))
+               PYTHONPATH=str(code))
     t0 = time.perf_counter()
-    proc = subprocess.Popen(command(job, spec, out_dir), cwd=ROOT, env=env, stdout=subprocess.PIPE,
+    proc = subprocess.Popen(command(job, spec, out_dir), cwd=code, env=env, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
     stdout, stderr = proc.communicate()
     wall = time.perf_counter() - t0
     return {"wall": wall, "code": proc.returncode, **compile_counts(stderr), "stderr": stderr, "stdout": stdout}
 
 
-def run_timed(job: str, spec: Path, cache: Path, out_dir: Path) -> dict:
+def run_timed(job: str, spec: Path, cache: Path, out_dir: Path, code: Path = ROOT) -> dict:
     """:func:`run` with the child's CPU time from ``resource`` (children's rusage difference)."""
     import resource
 
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    r = run(job, spec, cache, out_dir)
+    r = run(job, spec, cache, out_dir, code)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     r["cpu"] = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     return r
@@ -129,11 +134,13 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help=QUICK_HELP)
     parser.add_argument("--designs", default=None, help="comma-separated design names (default: every shipped one)")
     parser.add_argument("--jobs", default=None, help=f"comma-separated jobs of {', '.join(JOBS)}")
+    parser.add_argument("--code", default=None, help="run the jobs with the package of this checkout (PYTHONPATH)")
     args = parser.parse_args()
+    code = ROOT if args.code is None else Path(args.code).resolve()
     names = (["ore_pass"] if args.quick else sorted(p.stem for p in DESIGNS.glob("*.toml"))) \
         if args.designs is None else args.designs.split(",")
     jobs = (["optimize", "report"] if args.quick else list(JOBS)) if args.jobs is None else args.jobs.split(",")
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=code, capture_output=True,
                             text=True).stdout.strip() or "?"
     print(f"# jobs in fresh processes, {time.strftime('%Y-%m-%d')}, commit {commit}, {os.cpu_count()} cores")
     print(f"{'design':24s} {'job':9s} {'cache':7s} {'wall s':>7s} {'cpu s':>7s} {'exit':>4s}  "
@@ -148,12 +155,12 @@ def main() -> None:
             edited_dir.mkdir()
             edited = edited_copy(spec, edited_dir)
             for job in jobs:
-                if job == "trade" and not has_trade:
+                if (job == "trade" and not has_trade) or (job == "explore" and code != ROOT):
                     continue
                 cache = tmp / f"cache-{name}-{job}"
                 for state in STATES:
                     out_dir = tmp / f"out-{name}-{job}-{state}"
-                    r = run_timed(job, edited if state == "edited" else spec, cache, out_dir)
+                    r = run_timed(job, edited if state == "edited" else spec, cache, out_dir, code)
                     ok = r["code"] in (0, 3)
                     if not ok:
                         failures.append((name, job, state, r["stderr"][-2000:]))

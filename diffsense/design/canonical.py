@@ -100,8 +100,7 @@ def _flat_directions(model: DesignModel, run, theta, x, free):
     """Orthonormal directions (in y = ln x for log-scaled variables) of the free variables along
     which the objective and the active rows are flat to second order, and the active rows."""
     n = x.size
-    to_x = lambda y: np.where(model.log_scale, np.exp(y), y)  # noqa: E731
-    y0 = np.where(model.log_scale, np.log(np.where(model.log_scale, x, 1.0)), x)
+    y0 = _to_y(model, x)
     at = _Linearised(model, run, theta, x)
     r0 = at.rows[0]
     active = np.flatnonzero((r0 >= -ACTIVE) | model.row_is_equality)
@@ -118,7 +117,7 @@ def _flat_directions(model: DesignModel, run, theta, x, free):
         return np.zeros((n, 0)), active, at
     zs = np.zeros((null.shape[1], n))
     zs[:, free] = null.T
-    trial = np.vstack([to_x(y0 + sgn * 1e-3 * z) for z in zs for sgn in (1.0, -1.0)])
+    trial = np.vstack([_to_x(model, y0 + sgn * 1e-3 * z) for z in zs for sgn in (1.0, -1.0)])
     probe = _Linearised(model, run, theta, trial)
     f0 = float(at.f[0])
     flat = []
@@ -175,13 +174,12 @@ def canonical_optimum(model: DesignModel, x, combo_index: int, options: Optional
     lane = Lanes(np.append(x, t0)[None, :], _one(theta._replace(stage=stage)), lower[None, :], upper[None, :],
                  np.array([combo_index]))
     res = run.solve(lane, scale=variable_scales(model, lower, upper))
-    x2, after = _within_cap(model, run, theta, x, np.asarray(res.x[0, :-1], dtype=float), f_cap)
+    x2, r2 = _within_cap(model, run, theta, x, np.asarray(res.x[0, :-1], dtype=float), f_cap)
     if x2 is None:
         return None
     rep = model.programs.reports(x2[None, :], [combo_index])[0]
     if not all(r["met"] for r in rep):
         return None
-    r2 = after.rows[0]
     return Canonical(x2, int(flat.shape[1]), float(np.min(-r0[inactive])), float(np.min(-r2[inactive])), RULE)
 
 
@@ -189,23 +187,30 @@ def canonical_optimum(model: DesignModel, x, combo_index: int, options: Optional
 CAP_STEPS = (1.0, 0.999, 0.99, 0.9, 0.5, 0.1)
 
 
+def _to_y(model: DesignModel, x):
+    """y = ln x for the log-scaled variables, x otherwise."""
+    return np.where(model.log_scale, np.log(np.where(model.log_scale, x, 1.0)), x)
+
+
+def _to_x(model: DesignModel, y):
+    """The inverse of :func:`_to_y`."""
+    return np.where(model.log_scale, np.exp(y), y)
+
+
 def _within_cap(model: DesignModel, run, theta, x, x2, f_cap):
     """The second stage's answer, or the point nearest to it on the segment from the first
     stage's answer ``x`` (in y = ln x for log-scaled variables) whose objective is within the
     cap and whose rows are met (the solver meets the cap only to its feasibility tolerance, in
     scaled units, which may exceed the cap's 1e-9); ``(None, None)`` when no such point moves off
-    ``x``. Returns (point, its linearisation)."""
-    to_y = lambda v: np.where(model.log_scale, np.log(np.where(model.log_scale, v, 1.0)), v)  # noqa: E731
-    to_x = lambda y: np.where(model.log_scale, np.exp(y), y)  # noqa: E731
-    y0, y2 = to_y(x), to_y(x2)
-    points = np.stack([np.where(model.integer, x2, to_x(y0 + lam * (y2 - y0))) for lam in CAP_STEPS])
+    ``x``. Returns (point, its requirement rows)."""
+    y0, y2 = _to_y(model, x), _to_y(model, x2)
+    points = np.stack([np.where(model.integer, x2, _to_x(model, y0 + lam * (y2 - y0))) for lam in CAP_STEPS])
     at = _Linearised(model, run, theta, points)
     ok = (at.f <= f_cap) & np.all(at.rows[:, ~model.row_is_equality] <= 0.0, axis=1)
     if not ok.any():
         return None, None
     k = int(np.argmax(ok))
-    one = _Linearised(model, run, theta, points[k])
-    return points[k], one
+    return points[k], at.rows[k]
 
 
 def _one(tree):

@@ -80,14 +80,10 @@ def variables_on_bounds(problem: Problem, x):
     """
     # in NumPy (the same formulas as the solvers' traced ones): no eager JAX dispatch
     x = np.asarray(x, dtype=float)
-    lo, hi = np.asarray(problem.lower, float), np.asarray(problem.upper, float)
-    s, log = np.asarray(problem.scale, float), np.asarray(problem.log_scale, bool)
-
-    def scaled(v):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return np.where(log, np.log(np.where(log, v, s) / s), v / s)
-
-    zlo, zhi, z = scaled(lo), scaled(hi), scaled(np.where(log, np.maximum(x, np.finfo(float).tiny), x))
+    log = np.asarray(problem.log_scale, bool)
+    scaled = problem.to_scaled_host
+    zlo, zhi = scaled(problem.lower), scaled(problem.upper)
+    z = scaled(np.where(log, np.maximum(x, np.finfo(float).tiny), x))
 
     def tol(b):
         return BOUND_RTOL * (1.0 + np.abs(np.where(np.isfinite(b), b, 0.0)))

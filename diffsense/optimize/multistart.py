@@ -184,20 +184,14 @@ def start_points(problem: Problem, n_starts: int, *, seed: Optional[int] = 0, me
         raise DomainError("start_points: every variable needs a finite sampling range; pass box=(lower, upper)")
     if np.any(lo > hi):
         raise DomainError("start_points: the sampling box does not intersect the bounds")
-    # the problem's scaled coordinates, in NumPy (host arrays in, host arrays out: no eager JAX)
-    scale = np.asarray(problem.scale, float)
-    log = np.asarray(problem.log_scale, bool)
-
-    def to_z(v):
-        return np.where(log, np.log(np.where(log, v, scale) / scale), v / scale)
-
-    zlo, zhi = to_z(lo), to_z(hi)
+    # the problem's scaled coordinates, in NumPy (no eager JAX)
+    zlo, zhi = problem.to_scaled_host(lo), problem.to_scaled_host(hi)
     if method == "sobol":
         u = sobol_points(n_starts, problem.n, seed=seed, scramble=True)
     else:
         u = latin_hypercube(n_starts, problem.n, seed=seed)
     z = zlo + u * (zhi - zlo)
-    x = np.where(log, scale * np.exp(np.where(log, z, 0.0)), scale * z)
+    x = problem.from_scaled_host(z)
     return np.clip(x, lo, hi)
 
 

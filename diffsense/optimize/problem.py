@@ -215,6 +215,20 @@ class Problem(eqx.Module):
         xl = jnp.where(self.log_scale, x, self.scale)
         return jnp.where(self.log_scale, jnp.log(xl / self.scale), x / self.scale)
 
+    def to_scaled_host(self, x) -> np.ndarray:
+        """:meth:`to_scaled` in NumPy (host arrays in and out, no JAX dispatch; a log variable's
+        x ≤ 0 or an infinite bound maps to ±inf or NaN without a warning)."""
+        s, log = np.asarray(self.scale, float), np.asarray(self.log_scale, bool)
+        x = np.asarray(x, dtype=float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(log, np.log(np.where(log, x, s) / s), x / s)
+
+    def from_scaled_host(self, z) -> np.ndarray:
+        """:meth:`from_scaled` in NumPy (host arrays in and out, no JAX dispatch)."""
+        s, log = np.asarray(self.scale, float), np.asarray(self.log_scale, bool)
+        z = np.asarray(z, dtype=float)
+        return np.where(log, s * np.exp(np.where(log, z, 0.0)), s * z)
+
     def scaled_bounds(self):
         """(zlo, zhi), the bounds in scaled coordinates (±inf kept)."""
         lo_l = jnp.where(self.log_scale, self.lower, self.scale)

@@ -94,7 +94,7 @@ class ExplorerProgram:
         self.extras_ready = False
         self._compiling = threading.Lock()
         self._points = None  # the interval slots of the last search (its worst points)
-        self._extras = None  # (rows, the extras' program)
+        self._extras = None  # (block sizes, the extras' program)
 
     def start(self) -> None:
         """Begin compiling the program of the first numbers (:meth:`quick`) in a background
@@ -135,42 +135,40 @@ class ExplorerProgram:
             return self._values(v, inputs)
         return self._first("core_ready", run)
 
-    def _blocks(self, grids=None) -> List[tuple]:
-        """The row blocks of the extras: per swept range input, then per one-parameter interval
-        requirement, ``(kind, key, input index, size, wanted)`` — ``wanted`` the outputs that
-        block draws (case -> frozenset; static), ``size`` its rows (``grids``: the sweeps' grids,
-        default :data:`SWEEP_POINTS` each)."""
+    def _blocks(self, grids) -> List[tuple]:
+        """The row blocks of the extras: per swept range input (its grid from ``grids``, in the
+        order of :attr:`sweep_inputs`), then per one-parameter interval requirement,
+        ``(kind, key, input index, grid, wanted)`` — the block's rows vary that input over the
+        grid, ``wanted`` the outputs the block draws (case -> frozenset; static)."""
         blocks = []
-        for i, k in enumerate(self.sweep_inputs):
-            cases = [case for case, kk in self.sweep_cases.items() if kk == k]
+        for k, grid in zip(self.sweep_inputs, grids):
             wanted = {case: frozenset(n for n in SWEEP_OUTPUTS + (self.margin_outputs[case],) if n is not None)
-                      for case in cases}
-            size = SWEEP_POINTS if grids is None else len(grids[i])
-            blocks.append(("sweep", k, k, size, wanted))
+                      for case, kk in self.sweep_cases.items() if kk == k}
+            blocks.append(("sweep", k, k, np.asarray(grid, dtype=float), wanted))
         for j in self.interval_requirements:
             r = self.model.requirements[j]
-            blocks.append(("interval", j, self.interval_inputs[j], len(self.interval_grids[j]),
+            blocks.append(("interval", j, self.interval_inputs[j], self.interval_grids[j],
                            {r.case: frozenset([r.output])}))
         return blocks
 
-    def _rows(self, v0, grids) -> np.ndarray:
-        """The input vectors of every block (:meth:`_blocks`; one input varied over its grid:
-        a range sweep's or an interval requirement's parameter), stacked."""
+    @staticmethod
+    def _rows(v0, blocks) -> np.ndarray:
+        """The input vectors of every block (:meth:`_blocks`), stacked."""
         parts = []
-        for (kind, key, k, size, _), grid in zip(self._blocks(grids),
-                                                 list(grids) + [self.interval_grids[j] for j in self.interval_requirements]):
-            block = np.repeat(v0[None, :], size, axis=0)
+        for _, _, k, grid, _ in blocks:
+            block = np.repeat(v0[None, :], len(grid), axis=0)
             block[:, k] = grid
             parts.append(block)
         return np.vstack(parts) if parts else np.zeros((0, v0.size))
 
-    def _extras_program(self, sizes: tuple) -> Program:
-        """``fn(rows, v (n,), θ) -> (curves, jacobian)``: per block (:meth:`_blocks`, of
-        ``sizes`` rows) the outputs it draws at its rows — only those computed, each block's rows
-        in one vmap — and d(requirement values, objective)/d(inputs) at ``v`` in forward mode;
-        one program per spec structure and block sizes."""
+    def _extras_program(self, blocks) -> Program:
+        """``fn(rows, v (n,), θ) -> (curves, jacobian)``: per block (:meth:`_blocks`) the outputs
+        it draws at its rows — only those computed, each block's rows in one vmap — and
+        d(requirement values, objective)/d(inputs) at ``v`` in forward mode; one program per
+        spec structure and block sizes."""
         model = self.model
-        wanted = [b[4] for b in self._blocks()]
+        wanted = [b[4] for b in blocks]
+        sizes = [len(b[3]) for b in blocks]
 
         def outputs(w):
             def at(v):
@@ -201,17 +199,16 @@ class ExplorerProgram:
         def run():
             v0 = np.asarray(v, dtype=float)
             blocks = self._blocks(grids)
-            sizes = tuple(b[3] for b in blocks)
+            sizes = tuple(len(b[3]) for b in blocks)
             if self._extras is None or self._extras[0] != sizes:
-                self._extras = (sizes, self._extras_program(sizes))
-            curves, jac = jax.device_get(self._extras[1](self._rows(v0, grids), v0, self._inputs(v0, combo_index)))
+                self._extras = (sizes, self._extras_program(blocks))
+            curves, jac = jax.device_get(self._extras[1](self._rows(v0, blocks), v0, self._inputs(v0, combo_index)))
             out = {"sweeps": {}, "intervals": {}, "jacobian": np.asarray(jac)}
             for (kind, key, _, _, wanted), curve in zip(blocks, curves):
                 if kind == "sweep":
                     for case in wanted:
                         out["sweeps"][case] = {n: np.asarray(curve[case][n])
-                                               for n in SWEEP_OUTPUTS + (self.margin_outputs[case],)
-                                               if n is not None and n in curve[case]}
+                                               for n in SWEEP_OUTPUTS + (self.margin_outputs[case],) if n in curve[case]}
                 else:
                     r = self.model.requirements[key]
                     out["intervals"][key] = np.asarray(curve[r.case][r.output])

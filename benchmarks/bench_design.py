@@ -53,9 +53,8 @@ import numpy as np
 
 import diffsense  # noqa: F401
 from diffsense.design.model import DesignModel
-from diffsense.design.optimizer import _starts, tight_limits
+from diffsense.design.optimizer import _starts, _thetas, tight_limits
 from diffsense.design.problem import design_problem, requirement_problem, variable_scales
-from diffsense.design.programs import stack
 from diffsense.design.runner import objective_scale
 from diffsense.design.spec import load_spec
 from diffsense.optimize import SolverOptions, make_batch_solver, solve
@@ -258,8 +257,7 @@ def _lane_arguments(model, starts):
     x0 = np.repeat(starts, n_c, axis=0)
     L = x0.shape[0]
     combos = np.tile(np.arange(n_c), starts.shape[0])
-    base, limits, scale = model.inputs(), tight_limits(model, 1e-7), objective_scale(model)
-    theta = stack([model.solve_inputs(base, int(c), limits, scale) for c in combos])
+    theta = _thetas(model, model.inputs(), combos, tight_limits(model, 1e-7), objective_scale(model))
     zeros = np.zeros((L, 1))
     lower = np.hstack([np.broadcast_to(model.lower, x0.shape), zeros])
     upper = np.hstack([np.broadcast_to(model.upper, x0.shape), zeros])

@@ -23,7 +23,7 @@ def load_model(design_file: Path, reporter: Reporter, *, starts: Optional[int] =
     corners of the box (:func:`diffsense.design.evaluable.check_evaluable`), so that values the
     chain rejects together, or cannot evaluate to a finite answer, are reported here. With
     ``starts`` the optimiser's programs begin compiling first (in background threads, while the
-    others are traced); ``tangents``: the program of derivatives too (a report)."""
+    others are traced; the small check program before the solver's); ``tangents``: the program of derivatives too (a report)."""
     from diffsense.design.evaluable import check_evaluable
     from diffsense.design.model import DesignModel
     from diffsense.design.optimizer import prepare
@@ -35,9 +35,12 @@ def load_model(design_file: Path, reporter: Reporter, *, starts: Optional[int] =
             spec = load_spec(design_file)
             model = DesignModel(spec)
         with reporter.step("compiling the design programs" if starts else "compiling the evaluation programs"):
+            # the small check program first: it compiles on one core while this thread traces the
+            # solver's program, whose compilation is the longest
+            model.programs.start("check")
             if starts:
                 prepare(model, n_starts=starts)
-            model.programs.start("check", "search", "dense", *(("evaluation",) if tangents else ()))
+            model.programs.start("search", "dense", *(("evaluation",) if tangents else ()))
         with reporter.step("checking the chain at the initial design and the box corners"):
             check_evaluable(model)
         return model

@@ -295,8 +295,9 @@ def optimize_design(model: DesignModel, *, n_starts: int = 8, seed: int = 0, mar
     picks by backend, None puts every lane of a step in one vmap, a positive count must divide
     the number of lanes."""
     starts = _starts(model, n_starts, seed)
+    model.programs.start("check")  # compiles while the solver's program is traced
     run = prepare(model, n_starts=starts.shape[0], options=options, lockstep=lockstep)
-    model.programs.start("check", "search", "dense")
+    model.programs.start("search", "dense")
     limits = tight_limits(model, margin)
     base = model.inputs()
     scale = objective_scale(model)

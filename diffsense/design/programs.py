@@ -43,6 +43,10 @@ SHARED_STRUCTURES = 8
 _SHARED: Dict[str, Dict[tuple, Program]] = {}
 #: input vectors per call of the search program
 SEARCH_ROWS = 8
+#: XLA options of the ``search`` and ``dense`` programs (:func:`diffsense.optimize.compile.compiler_options`):
+#: optimisation level 0 compiles them ~1 s faster for ~1 ms more per call, a few tens of calls a
+#: job (``benchmarks/bench_xla_options.py``); the other programs keep "optimized"
+SEARCH_PRESET = "fast"
 
 for _cls in (DesignInputs, SolveInputs, Stage, Evaluation, Budget):
     register_serializable(_cls)
@@ -146,7 +150,7 @@ class Programs:
 
             V = np.zeros((SEARCH_ROWS, len(model.layout)))
             return Program("search", over_rows(one), (V, stack([self._example] * SEARCH_ROWS)), self.structure,
-                           preset="optimized", pool=compile_pool())
+                           preset=SEARCH_PRESET, pool=compile_pool())
         return self._get(("search",), build)
 
     def dense(self) -> Program:
@@ -159,7 +163,7 @@ class Programs:
                 return tuple(found[j] for j in model.intervals.indices)
 
             return Program("dense", fn, (np.zeros(len(model.layout)), self._example), self.structure,
-                           preset="optimized", pool=compile_pool())
+                           preset=SEARCH_PRESET, pool=compile_pool())
         return self._get(("dense",), build)
 
     def lanes(self, batch: int, options: SolverOptions, lockstep) -> Program:

@@ -33,6 +33,7 @@ required-SNR root finder resolves Pd - Pfa down to SNRs of -200 dB and below).
 
 from __future__ import annotations
 
+import jax
 import jax.numpy as jnp
 
 from diffsense.detection._logpmf import bd0
@@ -87,12 +88,14 @@ def gamma_chernoff_factors(shape, tail_l):
     """
     a = tail_l / shape
     u = 1.0 + 2.0 * a + 2.0 * jnp.sqrt(a)
-    for _ in range(8):
-        u = u - (u - jnp.log(u) - 1.0 - a) / (1.0 - 1.0 / u)
     v = jnp.maximum(-(1.0 + a), jnp.log(jnp.maximum(1.0 - jnp.sqrt(2.0 * a), 1e-300)))
-    for _ in range(8):
+
+    def step(_, uv):
+        u, v = uv
         ev = jnp.exp(v)
-        v = v - (ev - v - 1.0 - a) / (ev - 1.0)
+        return u - (u - jnp.log(u) - 1.0 - a) / (1.0 - 1.0 / u), v - (ev - v - 1.0 - a) / (ev - 1.0)
+
+    u, v = jax.lax.fori_loop(0, 8, step, (u, v))
     return jnp.exp(v), u
 
 
@@ -109,8 +112,7 @@ def tight_upper_bound(mu, r, k_start, tail_l):
     ``r`` is the negative-binomial shape, or None for a Poisson K; ``k_start`` (> mu) is a valid
     bound to start Newton's method from (see the module docstring).
     """
-    k = k_start
-    for _ in range(_TIGHT_STEPS):
+    def step(_, k):
         if r is None:
             rate = bd0(k, mu)
             slope = jnp.log(k / mu)
@@ -118,7 +120,10 @@ def tight_upper_bound(mu, r, k_start, tail_l):
             d = k - mu
             slope = jnp.log1p(r * d / (mu * (k + r)))
             rate = k * slope - r * jnp.log1p(d / (mu + r))
-        k = k - (rate - tail_l) / slope
+        return k - (rate - tail_l) / slope
+
+    # a loop, not unrolled steps: one copy of the rate in a compiled program
+    k = jax.lax.fori_loop(0, _TIGHT_STEPS, step, jnp.asarray(k_start, dtype=jnp.result_type(k_start, mu)))
     return jnp.minimum(k_start, jnp.ceil(k))
 
 

@@ -116,8 +116,10 @@ def log_gamma_pq(a, x):
     series = x <= a + 1.0
     xs = jnp.where(series, x, a)  # double where: each branch sees only its own region
     xf = jnp.where(series, a + 2.0, x)
-    log_p_series = _log_pois(a, xs) + _log_series(a, xs)  # P = pois(a; x) a sum
-    log_q_fraction = jnp.log(a) + _log_pois(a, xf) + _log_fraction(a, xf)
+    # pois(a; x) at both branches' arguments by one evaluation (one copy of the deviance series)
+    log_pois = _log_pois(a, jnp.stack([xs, xf]))
+    log_p_series = log_pois[0] + _log_series(a, xs)  # P = pois(a; x) a sum
+    log_q_fraction = jnp.log(a) + log_pois[1] + _log_fraction(a, xf)
     log_small = jnp.where(series, log_p_series, log_q_fraction)
     log_large = jnp.log1p(-jnp.exp(log_small))
     log_p = jnp.where(series, log_small, log_large)

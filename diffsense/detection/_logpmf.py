@@ -110,12 +110,11 @@ def bd0(x, m):
     near = jnp.abs(d) < 0.1 * s
     v = jnp.where(near, d / jnp.where(near, s, 1.0), 0.0)
     v2 = v * v
-    term = v * v2
-    acc = jnp.zeros_like(v)
-    for i in range(1, 10):
-        acc = acc + term / (2 * i + 1)
-        term = term * v2
-    series = d * v + 2.0 * x * acc
+    # sum_{i=1..9} v^(2i+1)/(2i+1) = v^3 (1/3 + v^2 (1/5 + ...)) by Horner's rule
+    poly = jnp.full_like(v2, 1.0 / 19.0)
+    for i in range(8, 0, -1):
+        poly = poly * v2 + 1.0 / (2 * i + 1)
+    series = d * v + 2.0 * x * (v * v2) * poly
     xpos = x > 0
     xf = jnp.where(far_ok := (~near) & xpos, x, 1.0)
     mf = jnp.where(far_ok, m, 1.0)

@@ -51,7 +51,7 @@ from diffsense.detection._bounds import tail_exponent
 from diffsense.detection._domain import admit, guard
 from diffsense.detection.core import SWERLING_CASES, _chunked, _mixture_sum, pd_given_threshold
 from diffsense.detection.probability import N_RANGE, PFA_RANGE, saturation_db
-from diffsense.detection.threshold import _threshold
+from diffsense.detection.threshold import _threshold, _threshold_tangents
 
 __all__ = [
     "required_snr_db",
@@ -87,16 +87,17 @@ def _root_tail_exponent(pd_t, pfa, base):
     return jnp.clip(base - jnp.log(margin), base, cap)
 
 
-def _log_tail_and_slope(x_db, t, n, pfa, high, tail_l, swerling):
-    """g(x) = log(Pd - Pfa) or, for ``high`` targets, -log(1 - Pd); and dg/dx (x in dB)."""
+def _log_tail_and_slope(x_db, t, n, pfa, high, tail_l, swerling, partials="snr"):
+    """g(x) = log(Pd - Pfa) or, for ``high`` targets, -log(1 - Pd); dg/dx (x in dB); and the
+    partial derivatives of Pd that ``partials`` asks for (:func:`diffsense.detection.core._mixture_sum`)."""
     snr = from_db10(x_db)
-    _, excess, miss, (dp, _, _) = _mixture_sum(snr, t, n, pfa, swerling, with_partials="snr", tail_l=tail_l)
+    _, excess, miss, (dp, dp_t, dp_n) = _mixture_sum(snr, t, n, pfa, swerling, with_partials=partials, tail_l=tail_l)
     small = jnp.where(high, miss, excess)
     g = jnp.where(high, -jnp.log(small), jnp.log(small))
-    return g, dp * snr / (DB_PER_NEPER * small)
+    return g, dp * snr / (DB_PER_NEPER * small), (dp * snr / DB_PER_NEPER, dp_t, dp_n)
 
 
-def _solve(pd_t, pfa, n, swerling):
+def _solve(pd_t, pfa, n, swerling, t=None, partials=None):
     """Safeguarded Newton iteration on g(x) = g_target, x in dB (g increasing).
 
     g is the logarithm of the small one of Pd - Pfa and 1 - Pd: both are summed by the series
@@ -105,8 +106,15 @@ def _solve(pd_t, pfa, n, swerling):
     them. log(Pd - Pfa) is nearly linear in x at low SNR (Pd - Pfa ~ S) and -log(1 - Pd)
     nearly quadratic at high SNR, so Newton's method from Shnidman's estimate converges in a few
     steps; bisection of the bracket takes over where a step would leave it.
+
+    ``t``: the threshold T(Pfa, N) when the caller has it. ``partials`` (not for Swerling 2):
+    also return Pd's partial derivatives at the last point the iteration evaluated, ``(∂Pd/∂x
+    (per dB), ∂Pd/∂T, ∂Pd/∂N at fixed T)`` (None where not asked for), with ``partials`` as
+    :func:`diffsense.detection.core._mixture_sum`'s ``with_partials``; the iteration stops once a
+    step moves x by less than 1e-11 dB, so they are Pd's derivatives at the root to ~1e-12
+    relative, without a second copy of the series.
     """
-    t = _threshold(pfa, n)
+    t = _threshold(pfa, n) if t is None else t
     lim = saturation_db(pd_t)
     if swerling == 2:
         return db10(t / _threshold(pd_t, n) - 1.0)
@@ -114,10 +122,11 @@ def _solve(pd_t, pfa, n, swerling):
     tail_l = _root_tail_exponent(pd_t, pfa, tail_exponent(pd_t))
     g_t = jnp.where(high, -jnp.log1p(-pd_t), jnp.log(pd_t - pfa))
     x0 = _start(pd_t, pfa, n, swerling, lim)
+    mode = partials or "snr"
 
     def body(s):
-        x, lo, hi, _, it = s
-        g, dg = _log_tail_and_slope(x, t, n, pfa, high, tail_l, swerling)
+        x, lo, hi, _, it, _ = s
+        g, dg, found = _log_tail_and_slope(x, t, n, pfa, high, tail_l, swerling, mode)
         h = g - g_t
         above = h > 0
         lo = jnp.where(above, lo, x)
@@ -127,16 +136,22 @@ def _solve(pd_t, pfa, n, swerling):
         x_new = jnp.where(ok, x_newton, 0.5 * (lo + hi))
         done = h == 0
         x_new = jnp.where(done, x, x_new)
-        return x_new, lo, hi, jnp.where(done, 0.0, jnp.abs(x_new - x)), it + 1
+        kept = tuple(f for f in found if f is not None) if partials else ()
+        return x_new, lo, hi, jnp.where(done, 0.0, jnp.abs(x_new - x)), it + 1, kept
 
     def cond(s):
         return (s[4] < _MAX_ITER) & jnp.any(s[3] > _TOL_DB)
 
     lo0 = jnp.full_like(x0, -lim)
     hi0 = jnp.full_like(x0, lim)
-    x, *_ = jax.lax.while_loop(cond, body, (x0, lo0, hi0, jnp.full_like(x0, jnp.inf), 0))
+    n_kept = {"snr": 1, "snr_t": 2, True: 3}[mode] if partials else 0
+    init = (x0, lo0, hi0, jnp.full_like(x0, jnp.inf), 0, tuple(jnp.zeros_like(x0) for _ in range(n_kept)))
+    x, _, _, _, _, kept = jax.lax.while_loop(cond, body, init)
     # The root is inside the bracket for every admissible input; an end means it was not found.
-    return jnp.where(jnp.abs(x) < lim - 1e-6, x, jnp.nan)
+    x = jnp.where(jnp.abs(x) < lim - 1e-6, x, jnp.nan)
+    if not partials:
+        return x
+    return x, kept + (None,) * (3 - n_kept)
 
 
 def _start(pd_t, pfa, n, swerling, lim):
@@ -155,6 +170,33 @@ def _required_snr(pd_t, pfa, n, swerling):
 
 
 def _required_snr_jvp(swerling, primals, tangents):
+    pd_t, pfa, n = primals
+    n_is_constant = isinstance(tangents[2], SymbolicZero)
+    if swerling == 2:
+        return _required_snr_jvp_linearized(swerling, primals, tangents)
+    dpd = jnp.zeros_like(pd_t) if isinstance(tangents[0], SymbolicZero) else tangents[0]
+    # one threshold and one copy of the Pd series: the iteration keeps Pd's partials at its
+    # last point (_solve), and T's tangents come from the implicit function theorem
+    t = _threshold(pfa, n)
+    dt_pfa, dt_n = _threshold_tangents(t, n, tangents[1], tangents[2])
+    mode = True if not n_is_constant else ("snr_t" if dt_pfa is not None else "snr")
+    x, (dpd_dx, dpd_dt, dpd_dn) = _chunked(lambda p, f, k, tt: _solve(p, f, k, swerling, tt, partials=mode),
+                                           pd_t, pfa, n, t)
+    dpd_pfa = 0.0 if dt_pfa is None else dpd_dt * dt_pfa
+    dx = (dpd - dpd_pfa) / dpd_dx
+    if n_is_constant:
+        return x, dx
+    # dPd/dN at fixed Pfa is Pd - Pfa's derivative, formed from parts of Pfa's size that cancel;
+    # below N_DERIVATIVE_MIN_EXCESS its own size approaches float64's subnormal range, which XLA
+    # flushes to zero, and the result is not even of the right sign: NaN there, never a made-up number
+    # (a primal-only factor keeps the tangent linear; it is skipped when N is not differentiated)
+    dpd_n = dpd_dt * dt_n + dpd_dn * tangents[2]
+    scale = jnp.where(pd_t - pfa < N_DERIVATIVE_MIN_EXCESS, jnp.nan, 1.0)
+    return x, dx - scale * dpd_n / dpd_dx
+
+
+def _required_snr_jvp_linearized(swerling, primals, tangents):
+    """Swerling 2 (closed form in the thresholds): the derivative from a linearisation of Pd."""
     pd_t, pfa, n = primals
     n_is_constant = isinstance(tangents[2], SymbolicZero)
     dpd, dpfa, dn = (jnp.zeros_like(p) if isinstance(t, SymbolicZero) else t for p, t in zip(primals, tangents))

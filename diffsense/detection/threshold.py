@@ -131,19 +131,27 @@ def _threshold(pfa, n):
     return _solve_threshold(pfa, n)
 
 
-def _threshold_jvp(primals, tangents):
-    pfa, n = primals
-    dpfa, dn = tangents
-    t = _threshold(pfa, n)
+def _threshold_tangents(t, n, dpfa, dn):
+    """The tangents (dT from Pfa, dT from N) of T = :func:`_threshold` (Pfa, N) at its value
+    ``t``, by the implicit function theorem on Q(N, T) = Pfa: dT = (∂Q/∂N dN − dPfa) / f(T),
+    f the Gamma(N, 1) density; each None where its tangent is a symbolic zero."""
     inv_density = jnp.exp(-_log_density(n, t))  # 1 / f(T)
-    dt = jnp.zeros_like(t) if isinstance(dpfa, SymbolicZero) else -dpfa * inv_density
+    from_pfa = None if isinstance(dpfa, SymbolicZero) else -dpfa * inv_density
+    from_n = None
     if not isinstance(dn, SymbolicZero):
         # ∂Q/∂n (the order derivative of the incomplete gamma function, which JAX cannot
         # differentiate again): only where n is differentiated, so that second derivatives
         # in the other inputs exist
         _, dq_dn = jax.jvp(lambda a: gammaincc(a, t), (n,), (jnp.ones_like(n),))
-        dt = dt + dq_dn * dn * inv_density
-    return t, dt
+        from_n = dq_dn * dn * inv_density
+    return from_pfa, from_n
+
+
+def _threshold_jvp(primals, tangents):
+    pfa, n = primals
+    t = _threshold(pfa, n)
+    parts = [d for d in _threshold_tangents(t, n, *tangents) if d is not None]
+    return t, sum(parts[1:], parts[0]) if parts else jnp.zeros_like(t)
 
 
 _threshold.defjvp(_threshold_jvp, symbolic_zeros=True)

@@ -31,7 +31,8 @@ class RootResult(NamedTuple):
     residual: jnp.ndarray
 
 
-def decreasing_root_log(f: Callable, lo, hi, *, iterations: int = 100, differentiable: bool = True) -> RootResult:
+def decreasing_root_log(f: Callable, lo, hi, *, iterations: int = 100, differentiable: bool = True,
+                        ends=None, with_residual: bool = True) -> RootResult:
     """Solve f(x) = 0 for x in [lo, hi] (x > 0) where f is decreasing in x, elementwise.
 
     ``f`` maps an array of x to an array of residuals of the same shape (elementwise), and may
@@ -47,8 +48,12 @@ def decreasing_root_log(f: Callable, lo, hi, *, iterations: int = 100, different
     ``differentiable=False`` (for a caller that differentiates the root itself, or never) runs
     the same iteration without the implicit-derivative machinery, a smaller program, and stops
     early once a step moves ln x by less than 4 ε max(1, |ln x|) everywhere (later steps would
-    not change the answer).
+    not change the answer). In that mode ``ends`` may give ``(f(lo), f(hi))`` when the caller
+    has them, and ``with_residual=False`` leaves ``residual`` None: each saves an evaluation of
+    ``f`` in the program.
     """
+    if ends is not None and differentiable:
+        raise ValueError("decreasing_root_log: 'ends' is for differentiable=False")
     lo = jnp.asarray(lo, dtype=float)
     hi = jnp.asarray(hi, dtype=float)
     ulo0, uhi0 = jnp.broadcast_arrays(jnp.log(lo), jnp.log(hi))
@@ -56,9 +61,8 @@ def decreasing_root_log(f: Callable, lo, hi, *, iterations: int = 100, different
     def g(u):
         return f(jnp.exp(u))
 
-    def solve(g_, u0):
-        flo = g_(ulo0)
-        fhi = g_(uhi0)
+    def solve(g_, u0, ends=None):
+        flo, fhi = (g_(ulo0), g_(uhi0)) if ends is None else ends
 
         def body(state):
             a, b, u, width_before, _, it = state
@@ -98,8 +102,13 @@ def decreasing_root_log(f: Callable, lo, hi, *, iterations: int = 100, different
 
     u0 = 0.5 * (ulo0 + uhi0)
     if not differentiable:
-        u = lax.stop_gradient(solve(g, u0))
-        return RootResult(jnp.exp(u), (g(ulo0) > 0) & (g(uhi0) < 0), g(u))
+        # both ends by one call of f (elementwise: a leading axis broadcasts), shared by the
+        # iteration and the bracket test
+        if ends is None:
+            ends = g(jnp.stack([ulo0, uhi0]))
+        f_lo, f_hi = (lax.stop_gradient(jnp.broadcast_to(e, ulo0.shape)) for e in ends)
+        u = lax.stop_gradient(solve(g, u0, (f_lo, f_hi)))
+        return RootResult(jnp.exp(u), (f_lo > 0) & (f_hi < 0), g(u) if with_residual else None)
     u = lax.custom_root(g, u0, solve, tangent_solve)
     bracketed = (g(ulo0) > 0) & (g(uhi0) < 0)
     # a bound returned for lack of a root does not move with the parameters

@@ -91,8 +91,18 @@ def tuned_circuit_corner_frequency_hz(bandwidth_hz, n_stages: int):
 
 
 def _tuned_envelope(u, w, n: int):
-    """y = P(n, u) − P(n, u − w) (u = ω0 t from the leading edge, w = ω0 τ)."""
-    return _gamma_p(n, u) - _gamma_p(n, u - w)
+    """y = P(n, u) − P(n, u − w) (u = ω0 t from the leading edge, w = ω0 τ): both terms by one
+    call of :func:`_gamma_p` on the stacked arguments (one copy of the series in a program)."""
+    u, w = jnp.broadcast_arrays(jnp.asarray(u, dtype=float), jnp.asarray(w, dtype=float))
+    both = _gamma_p(n, jnp.stack([u, u - w]))
+    return both[0] - both[1]
+
+
+def _gamma_density(n: int, u):
+    """dP(n, u)/du = u^(n−1) e^(−u) / (n − 1)!, the Gamma(n, 1) density (0 for u ≤ 0)."""
+    positive = u > 0.0
+    v = jnp.where(positive, u, 1.0)
+    return jnp.where(positive, jnp.exp(-v) * v ** (n - 1) / math.factorial(n - 1), 0.0)
 
 
 def _series_terms(n: int) -> int:
@@ -105,21 +115,27 @@ def _series_terms(n: int) -> int:
     return j
 
 
+def _series_coefficients(n: int):
+    """n!/(n + j)! for j = 0 … J (:func:`_series_terms`), each an exact ratio rounded once."""
+    return [math.factorial(n) / math.factorial(n + j) for j in range(_series_terms(n) + 1)]
+
+
 @partial(jax.custom_jvp, nondiff_argnums=(0,))
 def _gamma_p(n: int, u):
     """P(n, u) for u > 0 and 0 for u <= 0, with a finite derivative everywhere, in closed form
     for the integer n of a tuned cascade (A&S 6.5.13 and 6.5.29), without an iterative special
     function: below u = n the power series ``exp(−u) u^n/n! Σ_j u^j n!/(n + j)!`` (positive
-    terms, no cancellation where P is small; :func:`_series_terms` terms),
-    above it ``1 − exp(−u) Σ_{k<n} u^k/k!`` (where P ≥ 1/2 the subtraction loses nothing).
-    Relative error below 1e-15 for n ≤ 5."""
+    terms and coefficients summed by Horner's rule: no cancellation where P is small;
+    :func:`_series_terms` terms), above it ``1 − exp(−u) Σ_{k<n} u^k/k!`` (where P ≥ 1/2 the
+    subtraction loses nothing). Relative error below 1e-15 for n ≤ 5."""
     positive = u > 0.0
     v = jnp.where(positive, u, 1.0)
     low = v < n
     s = jnp.where(low, v, 1.0)  # the series branch's argument (double where: finite derivative)
-    acc = jnp.ones_like(s)
-    for j in range(_series_terms(n), 0, -1):
-        acc = 1.0 + acc * s / (n + j)
+    coefficients = _series_coefficients(n)
+    acc = jnp.full_like(s, coefficients[-1])
+    for c in reversed(coefficients[:-1]):
+        acc = acc * s + c
     series = jnp.exp(-s) * s**n / math.factorial(n) * acc
     upper = jnp.exp(-v) * sum(v**k / math.factorial(k) for k in range(n))
     return jnp.where(positive, jnp.where(low, series, 1.0 - upper), 0.0)
@@ -127,13 +143,10 @@ def _gamma_p(n: int, u):
 
 @_gamma_p.defjvp
 def _gamma_p_jvp(n, primals, tangents):
-    """dP(n, u)/du = u^(n−1) e^(−u) / (n − 1)! (the Gamma(n, 1) density; 0 for u <= 0): the
-    closed form, so that a derivative does not go through the series."""
+    """dP(n, u)/du: the closed form :func:`_gamma_density`, so that a derivative does not go
+    through the series."""
     (u,), (du,) = primals, tangents
-    positive = u > 0.0
-    v = jnp.where(positive, u, 1.0)
-    density = jnp.where(positive, jnp.exp(-v) * v ** (n - 1) / math.factorial(n - 1), 0.0)
-    return _gamma_p(n, u), density * du
+    return _gamma_p(n, u), _gamma_density(n, u) * du
 
 
 def _tuned_peak_u(w, n: int):
@@ -189,18 +202,21 @@ def _crossings(x, filter: str):
         n = TUNED_STAGES[filter]
         w = 2.0 * jnp.pi * x * tuned_circuit_corner_frequency_hz(1.0, n)  # ω0 τ
         u_peak = _tuned_peak_u(w, n)
-        half = 0.5 * _tuned_envelope(u_peak, w, n)
         # both crossings in one root find (elementwise over [rise, fall]; one loop in the program):
-        # the envelope rises to its peak and falls after it
+        # the envelope rises to its peak and falls after it; the envelope at the bracket ends
+        # (start, peak, tail) and the half-peak level from one evaluation
         falling = jnp.array([-1.0, 1.0])
-        lo = jnp.stack([1e-9 * u_peak, u_peak])
-        hi = jnp.stack([u_peak, u_peak + w + 60.0 + 10.0 * n])
-        roots = decreasing_root_log(lambda u: falling * (_tuned_envelope(u, w, n) - half), lo, hi,
-                                    iterations=_ROOT_ITERATIONS, differentiable=False).root
+        start, tail = 1e-9 * u_peak, u_peak + w + 60.0 + 10.0 * n
+        at = _tuned_envelope(jnp.stack([start, u_peak, tail]), w, n)
+        half = 0.5 * at[1]
+        ends = (falling * (at[:2] - half), falling * (at[1:] - half))
+        roots = decreasing_root_log(lambda u: falling * (_tuned_envelope(u, w, n) - half), jnp.stack([start, u_peak]),
+                                    jnp.stack([u_peak, tail]), iterations=_ROOT_ITERATIONS, differentiable=False,
+                                    ends=ends, with_residual=False).root
         return w, roots[0], roots[1]
     half = 0.5 * _centred_envelope(0.0, x, filter)
     s = decreasing_root_log(lambda s: _centred_envelope(s, x, filter) - half, 1e-9 * (1.0 + x), 0.5 * x + 3.0,
-                            iterations=_ROOT_ITERATIONS, differentiable=False).root
+                            iterations=_ROOT_ITERATIONS, differentiable=False, with_residual=False).root
     return (s,)
 
 
@@ -233,12 +249,14 @@ def _relative_width_jvp(filter, primals, tangents):
     if filter in TUNED_STAGES:
         n = TUNED_STAGES[filter]
         w, rise, fall = c
-        env = lambda u, ww: _tuned_envelope(u, ww, n)  # noqa: E731
-        dhalf = 0.5 * jax.jvp(lambda ww: env(_tuned_peak_u(ww, n), ww), (w,), (jnp.ones_like(w),))[1]
-        slopes = []
-        for u_c in (rise, fall):
-            y_u, y_w = _partials(env, u_c, w)
-            slopes.append((dhalf - y_w) / y_u)
+        # y(u, w) = P(n, u) − P(n, u − w): ∂y/∂u = p(u) − p(u − w), ∂y/∂w = p(u − w) with p the
+        # Gamma(n, 1) density; half'(w) = ½ p(u* − w) at the peak u* (∂y/∂u = 0 there) for n ≥ 2,
+        # and ½ p(w) for n = 1 (the peak is the corner u* = w): closed forms only
+        u_c = jnp.stack([rise, fall])
+        peak = jnp.broadcast_to(w if n == 1 else _tuned_peak_u(w, n) - w, u_c.shape)
+        p = _gamma_density(n, jnp.stack([u_c, u_c - w, peak]))
+        y_u, y_w, dhalf = p[0] - p[1], p[1], 0.5 * p[2]
+        slopes = (dhalf - y_w) / y_u
         dw_dx = 2.0 * jnp.pi * tuned_circuit_corner_frequency_hz(1.0, n)
         width = (fall - rise) / w
         return width, ((slopes[1] - slopes[0]) - width) / w * dw_dx * dx

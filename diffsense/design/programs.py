@@ -120,7 +120,7 @@ class Programs:
             fn = over_rows(one)
             V = np.zeros((EVAL_ROWS, len(model.layout)))
             return Program("evaluation", fn, (V, V, stack([self._example] * EVAL_ROWS)), self.structure,
-                           preset="optimized", pool=compile_pool())
+                           preset="optimized", pool=compile_pool(), packed=True)
         return self._get(("evaluation",), build)
 
     def check(self, full: bool = False) -> Program:
@@ -135,7 +135,7 @@ class Programs:
             V = np.zeros((EVAL_ROWS, len(model.layout)))
             fn = over_rows(lambda v, inputs: model.evaluation(v, inputs, full))
             return Program(name, fn, (V, stack([self._example] * EVAL_ROWS)), self.structure, preset="optimized",
-                           pool=compile_pool())
+                           pool=compile_pool(), packed=True)
         return self._get((name,), build)
 
     def search(self) -> Program:
@@ -224,7 +224,7 @@ class Programs:
             out = program(V[padded], th) if T is None else program(V[padded], T[padded], th)
             parts.append(out)
             counts.append(rows.size)
-        parts = jax.device_get(parts)
+        parts = [program.unpack(p) for p in jax.device_get(parts)]
         if len(parts) == 1:
             return jax.tree_util.tree_map(lambda a: np.asarray(a)[:counts[0]], parts[0])
         return jax.tree_util.tree_map(lambda *a: np.concatenate([x[:n] for x, n in zip(a, counts)], axis=0), *parts)

@@ -116,15 +116,18 @@ class Program:
     for the compiled executable."""
 
     def __init__(self, name: str, fn: Callable, example: tuple, structure: str, preset: str = "optimized",
-                 pool: Optional[concurrent.futures.Executor] = None):
+                 pool: Optional[concurrent.futures.Executor] = None, packed: bool = False):
         self.name = name
+        #: the compiled program returns its outputs packed into one float64 vector (:meth:`unpack`)
+        self.packed = packed
+        self._out = None
         self.fn = fn
         self.avals = _avals(tuple(example))
         self.preset = preset
         self.pool = pool
         leaves = jax.tree_util.tree_flatten(self.avals)
         shapes = repr([(a.shape, str(a.dtype)) for a in leaves[0]]) + repr(leaves[1])
-        text = "\n".join([name, structure, preset, shapes, code_version(), jax.__version__,
+        text = "\n".join([name, structure, preset, shapes, code_version(), jax.__version__, str(packed),
                           str(jax.config.jax_enable_x64)])
         self.key = hashlib.sha256(text.encode()).hexdigest()[:40]
         self._future: Optional[concurrent.futures.Future] = None
@@ -189,7 +192,8 @@ class Program:
         t0 = time.perf_counter()
         with _LOCK:
             COMPILATIONS[self.name] = COMPILATIONS.get(self.name, 0) + 1
-        call = _named(exported.call, self.name)
+        self._out = (exported.out_tree, [(tuple(a.shape), np.dtype(a.dtype)) for a in exported.out_avals])
+        call = _named(_packing(exported.call) if self.packed else exported.call, self.name)
         opts = compiler_options(self.preset)
         jitted = jax.jit(call, compiler_options=opts) if opts else jax.jit(call)
         compiled = jitted.lower(*self.avals).compile()
@@ -221,6 +225,31 @@ class Program:
 
     def __call__(self, *args):
         return self.compiled()(*args)
+
+    def unpack(self, flat):
+        """The outputs (NumPy pytree) from a packed program's result ``flat`` on the host: one
+        transfer per call instead of one per output array (a design's evaluation has hundreds)."""
+        if not self.packed:
+            return flat
+        self.compiled()
+        tree, leaves = self._out
+        flat = np.asarray(flat)
+        out, start = [], 0
+        for shape, dtype in leaves:
+            size = int(np.prod(shape, dtype=np.int64))
+            out.append(flat[start:start + size].reshape(shape).astype(dtype, copy=False))
+            start += size
+        return jax.tree_util.tree_unflatten(tree, out)
+
+
+def _packing(call):
+    """``call`` with its outputs raveled and concatenated into one float64 vector (booleans and
+    integers are exact in float64; :meth:`Program.unpack` restores the arrays)."""
+    def packed(*args):
+        leaves = jax.tree_util.tree_leaves(call(*args))
+        return jax.numpy.concatenate([jax.numpy.ravel(a).astype(np.float64) for a in leaves]) if leaves else \
+            jax.numpy.zeros((0,))
+    return packed
 
 
 class LazyProgram:

@@ -415,7 +415,11 @@ def worst_points_grouped(fn_multi: Callable, theta, lower, upper, log, counts: t
     ranked with the grid's local minima (e.g. the worst points a previous search or a dense
     re-check found). Returns ``(values (m, n_worst), points (m, n_worst, d))``, each function's
     sorted; with ``differentiable`` the values are re-evaluated at the stopped points (derivatives
-    by the envelope theorem), otherwise they are the polish's own (no derivative)."""
+    by the envelope theorem), otherwise they are the polish's own (no derivative).
+
+    Every evaluation — the grid, in chunks of one polish step's size, then each step of the
+    polish (:func:`_zoom`'s rounds along each coordinate) — is one trip of a single loop, so a
+    compiled program holds one copy of ``fn_multi``."""
     theta_s = jax.tree_util.tree_map(lax.stop_gradient, theta)
     lower, upper, log = (jnp.asarray(a) for a in (lower, upper, log))
     m, d = lower.shape
@@ -424,49 +428,68 @@ def worst_points_grouped(fn_multi: Callable, theta, lower, upper, log, counts: t
         grids = jnp.concatenate([grids, jnp.clip(jnp.asarray(extra, dtype=grids.dtype), lower[:, None, :],
                                                  upper[:, None, :])], axis=1)
     n_grid = int(np.prod(counts))
+    n_cand = grids.shape[1]
     own = jnp.arange(m)
-    flat = grids.reshape(-1, d)
-    values = jax.vmap(lambda q: fn_multi(theta_s, q))(flat).reshape(m, grids.shape[1], m)[own, :, own]  # (m, K+E)
     u_lo, u_hi = _u_bounds(lower, upper, log)  # (m, d)
     cell = (u_hi - u_lo) / jnp.maximum(jnp.asarray(counts, dtype=u_lo.dtype) - 1.0, 1.0)
+    grid_u = jnp.where(log[:, None, :], jnp.log(jnp.where(log[:, None, :], grids, 1.0)), grids)
+    offsets = jnp.linspace(-1.0, 1.0, points)
+    shrink = (points - 1) / 2.0
+    n_sweeps = (1 if d == 1 else 4) if sweeps is None else sweeps
 
-    def starts_of(v, grid_u):
+    # one evaluation size for every trip: a polish step's candidates (m, n_worst, points)
+    size = m * n_worst * points
+    flat = grids.reshape(-1, d)
+    chunks = -(-flat.shape[0] // size)
+    flat = jnp.concatenate([flat, jnp.broadcast_to(flat[-1:], (chunks * size - flat.shape[0], d))])
+    steps = n_sweeps * rounds * d
+
+    def starts_of(v, g_u):
         finite = jnp.isfinite(v)
         mask = _local_minimum_mask(v[:n_grid], counts)
         mask = jnp.concatenate([mask, jnp.ones((v.shape[0] - n_grid,), dtype=bool)])
         span = jnp.max(jnp.where(finite, jnp.abs(v), 0.0)) + 1.0
         score = jnp.where(finite, v, 1e300) + jnp.where(mask, 0.0, 4.0 * span)
         _, idx = lax.top_k(-score, n_worst)
-        return grid_u[idx], jnp.where(finite, v, jnp.inf)[idx]
+        return g_u[idx], jnp.where(finite, v, jnp.inf)[idx]
 
-    grid_u = jnp.where(log[:, None, :], jnp.log(jnp.where(log[:, None, :], grids, 1.0)), grids)
-    u0, v0 = jax.vmap(starts_of)(values, grid_u)  # (m, n_worst, d), (m, n_worst)
-    offsets = jnp.linspace(-1.0, 1.0, points)
-    shrink = (points - 1) / 2.0
+    def candidates(u, k):
+        # polish step k: round r along coordinate c (sweeps × rounds × coordinates, in that order)
+        c = k % d
+        h = jnp.take(cell, c, axis=1) / shrink ** ((k // d) % rounds)  # (m,)
+        uc = jnp.take(u, c, axis=2)  # (m, n_worst)
+        ts = jnp.clip(uc[..., None] + h[:, None, None] * offsets, jnp.take(u_lo, c, axis=1)[:, None, None],
+                      jnp.take(u_hi, c, axis=1)[:, None, None])
+        onehot = jnp.arange(d) == c
+        return jnp.where(onehot, ts[..., None], u[:, :, None, :])  # (m, n_worst, points, d)
 
-    def line(state, c, h):
-        u, _ = state
-        ts = jnp.clip(u[..., c][..., None] + h[:, None, None] * offsets, u_lo[:, None, None, c], u_hi[:, None, None, c])
-        cands = jnp.broadcast_to(u[:, :, None, :], ts.shape + (d,)).at[..., c].set(ts)
-        pts = _from_u(cands, log[:, None, None, :])
-        vals = jax.vmap(lambda q: fn_multi(theta_s, q))(pts.reshape(-1, d)).reshape(ts.shape + (m,))
-        vals = vals[own, :, :, own]  # each function's own column: (m, n_worst, P)
-        vals = jnp.where(jnp.isfinite(vals), vals, jnp.inf)
-        k = jnp.argmin(vals, axis=-1)  # the middle candidate is u itself: never uphill
-        u_new = jnp.take_along_axis(cands, k[..., None, None], axis=2)[:, :, 0, :]
-        return u_new, jnp.take_along_axis(vals, k[..., None], axis=2)[..., 0]
+    def trip(s, state):
+        grid_values, u, v = state
+        k = jnp.maximum(s - chunks, 0)
+        cands = candidates(u, k)
+        polish_pts = _from_u(cands, log[:, None, None, :]).reshape(-1, d)
+        grid_pts = lax.dynamic_slice_in_dim(flat, jnp.minimum(s, chunks - 1) * size, size)
+        in_grid = s < chunks
+        vals = jax.vmap(lambda q: fn_multi(theta_s, q))(jnp.where(in_grid, grid_pts, polish_pts))  # (size, m)
+        grid_values = jnp.where(in_grid, lax.dynamic_update_slice_in_dim(
+            grid_values, vals, jnp.minimum(s, chunks - 1) * size, axis=0), grid_values)
 
-    n_sweeps = (1 if d == 1 else 4) if sweeps is None else sweeps
+        def from_grid(_):
+            own_values = grid_values[:m * n_cand].reshape(m, n_cand, m)[own, :, own]  # (m, K+E)
+            return jax.vmap(starts_of)(own_values, grid_u)
 
-    def sweep(_, state):
-        def round_(r, state):
-            h = cell / shrink**r  # (m, d)
-            for c in range(d):
-                state = line(state, c, h[:, c])
-            return state
-        return lax.fori_loop(0, rounds, round_, state)
+        u, v = lax.cond(s == chunks - 1, from_grid, lambda _: (u, v), None)
+        cand_vals = vals.reshape(m, n_worst, points, m)[own, :, :, own]  # each function's own column
+        cand_vals = jnp.where(jnp.isfinite(cand_vals), cand_vals, jnp.inf)
+        best = jnp.argmin(cand_vals, axis=-1)  # the middle candidate is u itself: never uphill
+        u_new = jnp.take_along_axis(cands, best[..., None, None], axis=2)[:, :, 0, :]
+        v_new = jnp.take_along_axis(cand_vals, best[..., None], axis=2)[..., 0]
+        polish = s >= chunks
+        return grid_values, jnp.where(polish, u_new, u), jnp.where(polish, v_new, v)
 
-    u_best, v_best = lax.fori_loop(0, n_sweeps, sweep, (u0, v0))
+    init = (jnp.zeros((chunks * size, m), dtype=grids.dtype), jnp.zeros((m, n_worst, d), dtype=grids.dtype),
+            jnp.zeros((m, n_worst), dtype=grids.dtype))
+    _, u_best, v_best = lax.fori_loop(0, chunks + steps, trip, init)
     pts = lax.stop_gradient(jnp.clip(_from_u(u_best, log[:, None, :]), lower[:, None, :], upper[:, None, :]))
     if differentiable:
         v_best = jax.vmap(lambda q: fn_multi(theta, q))(pts.reshape(-1, d)).reshape(m, n_worst, m)[own, :, own]

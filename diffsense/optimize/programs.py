@@ -244,11 +244,15 @@ class Program:
 
 def _packing(call):
     """``call`` with its outputs raveled and concatenated into one float64 vector (booleans and
-    integers are exact in float64; :meth:`Program.unpack` restores the arrays)."""
+    integers are exact in float64; :meth:`Program.unpack` restores the arrays). Float64 leaves
+    enter as they are (lax operations, no promotion): a program traced here may have weakly
+    typed outputs where the same program loaded from disk has not, and a conversion emitted for
+    one and not the other would make the two compilations differ (a persistent-cache miss)."""
     def packed(*args):
-        leaves = jax.tree_util.tree_leaves(call(*args))
-        return jax.numpy.concatenate([jax.numpy.ravel(a).astype(np.float64) for a in leaves]) if leaves else \
-            jax.numpy.zeros((0,))
+        flat = [jax.lax.reshape(a if a.dtype == np.float64 else jax.lax.convert_element_type(a, np.float64),
+                                (int(np.prod(a.shape, dtype=np.int64)),))
+                for a in jax.tree_util.tree_leaves(call(*args))]
+        return jax.lax.concatenate(flat, 0) if flat else jax.numpy.zeros((0,))
     return packed
 
 

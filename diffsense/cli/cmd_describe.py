@@ -74,6 +74,7 @@ def describe(
     parts: str = typer.Option("", "--parts", help="Comma-separated scene parts, e.g. rain,multipath."),
     option: List[str] = typer.Option([], "--option", help="A static option KEY=VALUE (repeatable), e.g. swerling=1."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the description as JSON here."),
+    force: bool = typer.Option(False, "--force", help="Replace a --json file that diffsense did not write."),
 ):
     """List the sensor kinds, or what one scene takes: parts, options, parameters (unit, default,
     domain) and outputs."""
@@ -90,4 +91,4 @@ def describe(
         reporter.error(str(exc))
         raise typer.Exit(code=EXIT_BAD_INPUT)
     _print_scene(d, reporter)
-    write_json(d, json_out, reporter)
+    write_json(d, json_out, reporter, force=force)

@@ -9,11 +9,12 @@ from typing import Optional
 
 import typer
 
-from diffsense.cli.output import EXIT_BAD_INPUT, EXIT_UNMET, Reporter, clip, write_json
+from diffsense.cli.output import EXIT_BAD_INPUT, EXIT_UNMET, Reporter, check_json_target, clip, refuse, write_json
 from diffsense.cli.records import print_record, unmet
 from diffsense.cli.state import reporter_from
 
 DESIGN_FILE = typer.Argument(..., help="Requirement spec (TOML), e.g. designs/ore_pass.toml.", show_default=False)
+FORCE = typer.Option(False, "--force", help="Replace output files that diffsense did not write (never the spec).")
 
 
 def load_model(design_file: Path, reporter: Reporter, *, starts: Optional[int] = None, tangents: bool = False):
@@ -70,19 +71,21 @@ def evaluate(
     ctx: typer.Context,
     design_file: Path = DESIGN_FILE,
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the evaluation as JSON here."),
+    force: bool = FORCE,
 ):
     """Evaluate a spec at its initial design (each variable's 'initial', each catalog's first
     option); exit 3 when a requirement is not met."""
     from diffsense.design.record import design_record
 
     reporter = reporter_from(ctx)
+    check_json_target(json_out, reporter, [design_file], force)
     model = load_model(design_file, reporter)
     with reporter.step(f"evaluating the initial design ({len(model.requirements)} requirements)"):
         record = design_record(model, model.initial, 0, every_output=json_out is not None)
     check_probabilities(model, record, model.initial, 0, reporter)
     record["converged"] = None
     print_record(record, reporter, title_prefix="Evaluation: ")
-    write_json(record, json_out, reporter)
+    write_json(record, json_out, reporter, [design_file], force)
     _fail_if_unmet(unmet(record), reporter)
 
 
@@ -92,12 +95,14 @@ def optimize(
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the optimised design as JSON here."),
     starts: int = typer.Option(8, min=1, help="Starts per catalog combination (the spec's initial design + Latin hypercube)."),
     seed: int = typer.Option(0, help="Seed of the multi-start design."),
+    force: bool = FORCE,
 ):
     """Optimise a spec: the best design meeting every requirement (exit 3 when none can)."""
     from diffsense.design.optimizer import optimize_design
     from diffsense.design.record import design_record
 
     reporter = reporter_from(ctx)
+    check_json_target(json_out, reporter, [design_file], force)
     t0 = time.perf_counter()
     model = load_model(design_file, reporter, starts=starts)
     lanes = len(model.combinations) * starts
@@ -123,7 +128,7 @@ def optimize(
         c = result.canonical
         reporter.info(f"{c['rule']}: {c['flat_directions']} flat direction(s); smallest such slack "
                       f"{c['smallest_slack_before']:.4g} -> {c['smallest_slack_after']:.4g} (scaled)")
-    write_json(record, json_out, reporter)
+    write_json(record, json_out, reporter, [design_file], force)
     if not result.feasible:
         reporter.error("infeasible: these requirements cannot be met together within the bounds: "
                        + "; ".join(result.unmet))
@@ -137,19 +142,27 @@ def report(
     no_optimize: bool = typer.Option(False, "--no-optimize", help="Report the spec's initial design instead of the optimum."),
     starts: int = typer.Option(8, min=1, help="Starts per catalog combination when optimising."),
     seed: int = typer.Option(0, help="Seed of the multi-start design."),
+    force: bool = FORCE,
 ):
     """Write a design report: budgets, detection plots, elasticities and post-optimal
-    sensitivities (exit 2 on an invalid spec, 3 when the design leaves a requirement unmet)."""
+    sensitivities (exit 2 on an invalid spec, 3 when the design leaves a requirement unmet).
+    Files in --out that diffsense did not write are not replaced without --force."""
     from diffsense.errors import SpecError
     from diffsense.report import build_report
+    from diffsense.report.build import report_folder
+    from diffsense.report.files import OutputError
 
     reporter = reporter_from(ctx)
+    try:
+        folder = report_folder(out, design_file, force)
+    except OutputError as exc:
+        refuse(reporter, str(exc))
     # exit 2 here, with the CLI's checks, on an invalid spec; the report reuses the model's programs
     model = load_model(design_file, reporter, starts=None if no_optimize else starts, tangents=True)
     try:
         with reporter.step(f"{'optimising and ' if not no_optimize else ''}writing the report of {clip(design_file)}"):
-            record = build_report(design_file, out, optimize=not no_optimize, n_starts=starts, seed=seed, model=model)
-    except SpecError as exc:
+            record = build_report(design_file, folder, optimize=not no_optimize, n_starts=starts, seed=seed, model=model)
+    except (SpecError, OutputError) as exc:
         reporter.error(str(exc))
         raise typer.Exit(code=EXIT_BAD_INPUT)
     for kind in ("md", "html", "json"):

@@ -27,6 +27,7 @@ def detection(
     pulses: str = typer.Option("1,10,100", help="Comma-separated pulse counts N (noncoherent integration)."),
     pd_values: str = typer.Option("0.5,0.9,0.95,0.99", "--pd", help="Comma-separated detection probabilities."),
     out: Optional[Path] = typer.Option(None, help="Directory for Pd-versus-SNR and ROC plots (PNG)."),
+    force: bool = typer.Option(False, "--force", help="Replace plots in --out that diffsense did not write."),
 ):
     """Print the exact required single-pulse SNR (dB) for Swerling 0-4 and write detection plots."""
     import numpy as np
@@ -34,9 +35,20 @@ def detection(
     from diffsense import detection as det
     from diffsense.errors import DomainError
 
+    from diffsense.report.files import OutputError, OutputFolder
+
     reporter = reporter_from(ctx)
     ns = _parse_floats(pulses, "--pulses")
     pds = _parse_floats(pd_values, "--pd")
+    names = [f"pd_vs_snr_n{n:g}.png" for n in ns] + ["roc_swerling0_n1.png"]
+    folder = None
+    if out is not None:
+        try:
+            folder = OutputFolder(out, force=force)
+            folder.check(names)
+        except OutputError as exc:
+            reporter.error(str(exc))
+            raise typer.Exit(code=EXIT_BAD_INPUT)
     grid_n, grid_pd = (a.ravel() for a in np.meshgrid(np.asarray(ns), np.asarray(pds), indexing="ij"))
     try:
         with reporter.step("computing the exact detectability"):
@@ -48,15 +60,10 @@ def detection(
     reporter.table(f"Required single-pulse SNR (dB), square-law detector, Pfa = {pfa:g}",
                    ("N", "Pd") + tuple(f"Swerling {sw}" for sw in range(5)), rows,
                    right=("N", "Pd") + tuple(f"Swerling {sw}" for sw in range(5)))
-    if out is None:
+    if folder is None:
         return
-    out.mkdir(parents=True, exist_ok=True)
     from diffsense.detection.plots import pd_vs_snr_figure, roc_figure
 
-    for n in ns:
-        path = out / f"pd_vs_snr_n{n:g}.png"
-        pd_vs_snr_figure(pfa=pfa, n=n).savefig(path)
-        reporter.info(f"wrote {path}")
-    path = out / "roc_swerling0_n1.png"
-    roc_figure(n=1).savefig(path)
-    reporter.info(f"wrote {path}")
+    figures = [pd_vs_snr_figure(pfa=pfa, n=n) for n in ns] + [roc_figure(n=1)]
+    for name, fig in zip(names, figures):
+        reporter.info(f"wrote {folder.save_figure(name, fig)}")

@@ -9,8 +9,8 @@ from typing import Optional
 
 import typer
 
-from diffsense.cli.cmd_design import DESIGN_FILE
-from diffsense.cli.output import EXIT_BAD_INPUT, EXIT_UNMET, fmt, write_json
+from diffsense.cli.cmd_design import DESIGN_FILE, FORCE
+from diffsense.cli.output import EXIT_BAD_INPUT, EXIT_UNMET, check_json_target, fmt, write_json
 from diffsense.cli.state import reporter_from
 
 
@@ -20,15 +20,23 @@ def trade(
     out: Path = typer.Option(..., "--out", help="Directory for front.csv, trade.md and figures/."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the front as JSON here."),
     points: Optional[int] = typer.Option(None, min=2, help="Points on the front (default: the spec's [trade] points)."),
+    force: bool = FORCE,
 ):
     """Trace the Pareto front of the spec's [trade] objectives by epsilon-constraint continuation."""
     from diffsense.design.model import DesignModel
     from diffsense.design.spec import load_spec
     from diffsense.design.trade import trade_design, trade_record, trade_spec
     from diffsense.errors import SpecError
-    from diffsense.report.trade import write_trade_report
+    from diffsense.report.files import OutputError
+    from diffsense.report.trade import trade_folder, write_trade_report
 
     reporter = reporter_from(ctx)
+    check_json_target(json_out, reporter, [design_file], force)
+    try:
+        folder = trade_folder(out, design_file, force)
+    except OutputError as exc:
+        reporter.error(str(exc))
+        raise typer.Exit(code=EXIT_BAD_INPUT)
     try:
         with reporter.step(f"reading {design_file}"):
             spec = trade_spec(load_spec(design_file))
@@ -48,11 +56,11 @@ def trade(
     d = result.dropped
     reporter.info(f"{len(result.points)} points; dropped {d['unconverged']} unconverged, {d['unmet']} unmet, "
                   f"{d['dominated']} dominated; time {result.seconds:.1f} s")
-    files = write_trade_report(result, out)
+    files = write_trade_report(result, folder)
     for kind in ("csv", "markdown"):
         reporter.info(f"wrote {files[kind]}")
     reporter.info(f"figures: {len(files['figures'])} in {out / 'figures'}")
-    write_json(record, json_out, reporter)
+    write_json(record, json_out, reporter, [design_file], force)
     if not result.points:
         reporter.error("no design meets every requirement: the front is empty")
         raise typer.Exit(code=EXIT_UNMET)

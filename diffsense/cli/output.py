@@ -120,12 +120,39 @@ def finite_json(value):
     return value
 
 
-def write_json(record: dict, path: Optional[Path], reporter: Reporter) -> None:
-    """Write ``record`` as strict JSON (no NaN/Infinity) to ``path`` (nothing when ``None``)."""
+def refuse(reporter: "Reporter", message: str):
+    """Print the one error line ``message`` and stop with :data:`EXIT_BAD_INPUT`."""
+    import typer
+
+    reporter.error(message)
+    raise typer.Exit(code=EXIT_BAD_INPUT)
+
+
+def check_json_target(path: Optional[Path], reporter: "Reporter", protect=(), force: bool = False) -> None:
+    """Before any work: refuse a ``--json`` file that would replace the spec, a folder or a file
+    diffsense did not write (without ``force``; :func:`diffsense.report.files.check_single_file`)."""
+    from diffsense.report.files import OutputError, check_single_file
+
     if path is None:
         return
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(finite_json(record), indent=2, allow_nan=False))
+    try:
+        check_single_file(path, protect, force)
+    except OutputError as exc:
+        refuse(reporter, str(exc))
+
+
+def write_json(record: dict, path: Optional[Path], reporter: Reporter, protect=(), force: bool = False) -> None:
+    """Write ``record`` as strict JSON (no NaN/Infinity) to ``path`` (nothing when ``None``),
+    atomically, marked as written by diffsense; never over the spec (``protect``) nor, without
+    ``force``, over a file diffsense did not write."""
+    from diffsense.report.files import OutputError, write_json_file
+
+    if path is None:
+        return
+    try:
+        write_json_file(path, finite_json(record), protect, force)
+    except OutputError as exc:
+        refuse(reporter, str(exc))
     reporter.info(f"wrote {path}")
 
 

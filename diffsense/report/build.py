@@ -26,7 +26,8 @@ from diffsense.report.content import report_blocks
 from diffsense.report.inputs import design_inputs
 from diffsense.report.jacobian import jacobian_section
 from diffsense.report.postoptimal import post_optimal_section
-from diffsense.report.render import si_text, unit_text, write_report
+from diffsense.report.files import OutputFolder, safe_name
+from diffsense.report.render import REPORT_FILES, si_text, unit_text, write_report
 from diffsense.report.sweeps import (
     blake_coverage,
     budget_rows,
@@ -53,10 +54,24 @@ def _objective_unit(model: DesignModel) -> str:
     return ""  # a weighted sum of terms in different units
 
 
+def report_folder(out_dir, spec_path, force: bool = False) -> OutputFolder:
+    """The report's output folder (:class:`~diffsense.report.files.OutputFolder`), checked before
+    any work: the spec ``spec_path`` is never written over, and without ``force`` no report file
+    or figure is written over a file diffsense did not write there (raises
+    :class:`~diffsense.report.files.OutputError`)."""
+    folder = OutputFolder(out_dir, protect=[spec_path], force=force)
+    folder.check(REPORT_FILES, folders=[FIGURE_DIR])
+    return folder
+
+
 def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8, seed: int = 0,
-                 optimum=None, model: Optional[DesignModel] = None) -> dict:
+                 optimum=None, model: Optional[DesignModel] = None, force: bool = False) -> dict:
     """Write ``report.md``, ``report.html``, ``report.json`` and the figures (PNG, in
     ``out_dir/figures``) for the spec ``spec_path``; return the report dict (as in the JSON).
+
+    ``out_dir``: a folder path, or the :class:`~diffsense.report.files.OutputFolder` of
+    :func:`report_folder`; files diffsense did not write there are not replaced unless ``force``
+    (:class:`~diffsense.report.files.OutputError`, raised before any work).
 
     ``optimize``: report the optimum of :func:`~diffsense.design.optimizer.optimize_design`
     (``n_starts``, ``seed``); ``False`` reports the spec's initial design (each variable's
@@ -70,12 +85,11 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
     """
     t_start = time.perf_counter()
     spec_path = Path(spec_path)
+    folder = out_dir if isinstance(out_dir, OutputFolder) else report_folder(out_dir, spec_path, force)
     if model is None:
         model = DesignModel(load_spec(spec_path))
     spec = model.spec
     model.programs.start("evaluation", "check", "search", "dense")
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
     unavailable: List[dict] = []
     report: dict = {"name": spec.name, "title": spec.title, "sensor": spec.sensor, "description": spec.description.strip(),
                     "spec_file": str(spec_path), "objective_text": spec.objective.text}
@@ -171,13 +185,13 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
         unavailable.append({"section": "multipliers and post-optimal sensitivities", "reason": reason})
 
     # --- figures -------------------------------------------------------------------------
-    figs, skipped = _figures(out_dir, model, inputs, batch, report, jac)
+    figs, skipped = _figures(folder, model, inputs, batch, report, jac)
     report["figures"] = figs
     report["skipped_figures"] = skipped
     report["unavailable"] = unavailable
     report["report_time_s"] = time.perf_counter() - t_start
     blocks = report_blocks(report)
-    paths = write_report(out_dir, report, blocks)
+    paths = write_report(folder, report, blocks)
     report["files"] = {k: str(p) for k, p in paths.items()}
     return report
 
@@ -239,15 +253,15 @@ def _post_json(post: dict, model: DesignModel, report: dict) -> dict:
     }
 
 
-def _figures(out_dir: Path, model: DesignModel, inputs, batch, report: dict, jac: Optional[dict]):
+def _figures(folder: OutputFolder, model: DesignModel, inputs, batch, report: dict, jac: Optional[dict]):
     figs: List[dict] = []
     skipped: List[dict] = []
     spec = model.spec
-    fdir = out_dir / FIGURE_DIR
 
     def attempt(name: str, title: str, caption: str, fn):
         try:
-            path = fn(fdir / f"{name}.png")
+            # names carry case names from the spec: made safe, never a path of their own
+            path = fn(folder.file(f"{FIGURE_DIR}/{safe_name(name)}.png"))
             figs.append({"file": f"{FIGURE_DIR}/{path.name}", "title": title, "caption": caption})
         except Exception as exc:  # noqa: BLE001 - a figure that cannot be drawn is listed, not fatal
             skipped.append({"figure": title, "reason": _reason(exc)})
@@ -335,4 +349,4 @@ def _figures(out_dir: Path, model: DesignModel, inputs, batch, report: dict, jac
     return figs, skipped
 
 
-__all__ = ["build_report", "FIGURE_DIR"]
+__all__ = ["build_report", "report_folder", "FIGURE_DIR"]

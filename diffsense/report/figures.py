@@ -26,12 +26,22 @@ def _pyplot():
     return plt
 
 
-def _save(fig, path: Path) -> Path:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=_DPI)
-    _pyplot().close(fig)
-    return path
+def _save(fig, path) -> Path:
+    """Save ``fig`` as PNG to ``path``: a :class:`~diffsense.report.files.FileTarget` (a file of
+    a command's output folder) or a plain path, atomically either way; returns the path."""
+    from diffsense.report.files import FileTarget, write_atomically
+
+    try:
+        if isinstance(path, FileTarget):
+            return path.save_figure(fig, dpi=_DPI)
+        import io
+
+        buf = io.BytesIO()
+        fig.savefig(buf, format="png", dpi=_DPI)
+        write_atomically(Path(path), buf.getvalue())
+        return Path(path)
+    finally:
+        _pyplot().close(fig)
 
 
 def _finish(fig, ax, path, title, grid, legend=None):

@@ -165,15 +165,20 @@ def to_html(blocks: List[tuple], title: str) -> str:
             + "\n".join(body) + "\n</body>\n</html>\n")
 
 
+#: the files :func:`write_report` writes into the report's folder
+REPORT_FILES = ("report.json", "report.md", "report.html")
+
+
 def write_report(out_dir, report: dict, blocks: List[tuple]) -> dict:
-    """Write ``report.json``, ``report.md`` and ``report.html`` into ``out_dir``; returns the paths."""
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    paths = {"json": out_dir / "report.json", "md": out_dir / "report.md", "html": out_dir / "report.html"}
-    paths["json"].write_text(json.dumps(to_jsonable(report), indent=2, allow_nan=False))
-    paths["md"].write_text(to_markdown(blocks))
-    paths["html"].write_text(to_html(blocks, report.get("title", "design report")))
-    return paths
+    """Write ``report.json``, ``report.md`` and ``report.html`` into ``out_dir`` (a folder path or
+    an :class:`~diffsense.report.files.OutputFolder`, whose rules apply); returns the paths."""
+    from diffsense.report.files import WRITTEN_BY, OutputFolder
+
+    folder = out_dir if isinstance(out_dir, OutputFolder) else OutputFolder(out_dir)
+    data = {WRITTEN_BY: "diffsense", **to_jsonable(report)}
+    return {"json": folder.write_text("report.json", json.dumps(data, indent=2, allow_nan=False)),
+            "md": folder.write_text("report.md", to_markdown(blocks)),
+            "html": folder.write_text("report.html", to_html(blocks, report.get("title", "design report")))}
 
 
-__all__ = ["to_jsonable", "fmt", "si_text", "unit_text", "to_markdown", "to_html", "write_report"]
+__all__ = ["to_jsonable", "fmt", "si_text", "unit_text", "to_markdown", "to_html", "write_report", "REPORT_FILES"]

@@ -87,14 +87,17 @@ def parallel_figure(result: TradeResult, path: Path) -> Path:
     return _save(fig, path)
 
 
-def write_csv(result: TradeResult, path: Path) -> Path:
+def write_csv(result: TradeResult, path) -> Path:
     """One row per front point: objectives, design values, catalog options, KKT residual,
-    active requirements."""
+    active requirements. ``path``: a :class:`~diffsense.report.files.FileTarget` or a plain path
+    (written atomically either way)."""
+    import io
+
+    from diffsense.report.files import FileTarget, write_atomically
+
     model = result.model
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     names = list(model.variable_names) + list(model.combo_params)
-    with path.open("w", newline="") as fh:
+    with io.StringIO(newline="") as fh:
         w = csv.writer(fh)
         w.writerow(result.labels + names + list(model.choice_names) + ["kkt_residual", "anchor_of", "knee",
                                                                         "active_requirements"])
@@ -105,7 +108,11 @@ def write_csv(result: TradeResult, path: Path) -> Path:
                        + [combo.options[c] for c in model.choice_names]
                        + [f"{p['kkt_residual']:.3g}", result.labels[p["anchor"]] if p["anchor"] >= 0 else "",
                           "yes" if k == result.knee else "", "; ".join(p["active"])])
-    return path
+        text = fh.getvalue()
+    if isinstance(path, FileTarget):
+        return path.write_text(text)
+    write_atomically(Path(path), text.encode("utf-8"))
+    return Path(path)
 
 
 def markdown(result: TradeResult, figures: List[Path], out: Path) -> str:
@@ -137,19 +144,36 @@ def markdown(result: TradeResult, figures: List[Path], out: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_trade_report(result: TradeResult, out: Path) -> dict:
-    """front.csv, figures/*.png and trade.md in ``out``; returns the paths written."""
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+#: the files :func:`write_trade_report` writes (besides ``figures/``)
+TRADE_FILES = ("front.csv", "trade.md")
+
+
+def trade_folder(out, spec_path, force: bool = False):
+    """The trade's output folder, checked before any work (as
+    :func:`diffsense.report.build.report_folder`)."""
+    from diffsense.report.files import OutputFolder
+
+    folder = OutputFolder(out, protect=[spec_path], force=force)
+    folder.check(TRADE_FILES, folders=["figures"])
+    return folder
+
+
+def write_trade_report(result: TradeResult, out) -> dict:
+    """front.csv, figures/*.png and trade.md in ``out`` (a folder path or the
+    :class:`~diffsense.report.files.OutputFolder` of :func:`trade_folder`); returns the paths
+    written."""
+    from diffsense.report.files import OutputFolder
+
+    folder = out if isinstance(out, OutputFolder) else OutputFolder(out)
     figures = []
     if len(result.points) >= 1:
-        figures.append(front_figure(result, out / "figures" / "front.png"))
+        figures.append(front_figure(result, folder.file("figures/front.png")))
         if len(result.labels) >= 3:
-            figures.append(parallel_figure(result, out / "figures" / "parallel_coordinates.png"))
-    csv_path = write_csv(result, out / "front.csv")
-    md = out / "trade.md"
-    md.write_text(markdown(result, figures, out))
+            figures.append(parallel_figure(result, folder.file("figures/parallel_coordinates.png")))
+    csv_path = write_csv(result, folder.file("front.csv"))
+    md = folder.write_text("trade.md", markdown(result, figures, folder.path))
     return {"csv": csv_path, "markdown": md, "figures": figures}
 
 
-__all__ = ["front_figure", "parallel_figure", "write_csv", "markdown", "write_trade_report"]
+__all__ = ["front_figure", "parallel_figure", "write_csv", "markdown", "write_trade_report", "trade_folder",
+           "TRADE_FILES"]

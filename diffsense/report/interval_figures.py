@@ -50,4 +50,4 @@ def interval_margin(path, row: dict, *, title: str) -> Path:
         ax.set_xscale("log")
     ax.set_xlabel(f"{name} ({xunit})")
     ax.set_ylabel(f"{row['output']} ({row['unit']})")
-    return _finish(fig, ax, Path(path), title, grid=dict(alpha=0.35), legend="best")
+    return _finish(fig, ax, path, title, grid=dict(alpha=0.35), legend="best")

@@ -159,3 +159,19 @@ def test_detection_plots_go_through_the_folder(tmp_path, capsys):
     code, _, err = _run(["detection", "--pulses", "1", "--pd", "0.9", "--out", out], capsys)
     assert code == 2 and "changed since" in _one_error_line(err)
     assert (out / "roc_swerling0_n1.png").read_bytes() == b"mine"
+
+
+def test_a_report_writes_every_figure_through_its_folder(tmp_path):
+    from diffsense.report import build_report
+
+    out = tmp_path / "report"
+    record = build_report(SPEC, out, optimize=False)
+    # no figure lost to the way it is written (each figure function saves through the folder)
+    assert not [s for s in record["skipped_figures"] if "Error" in s["reason"]], record["skipped_figures"]
+    assert any(f["file"].startswith("figures/interval_") for f in record["figures"])
+    listed = json.loads((out / MANIFEST).read_text())["files"]
+    on_disk = sorted(str(p.relative_to(out)) for p in out.rglob("*") if p.is_file() and p.name != MANIFEST)
+    assert sorted(listed) == on_disk
+    assert sorted(f["file"] for f in record["figures"]) == sorted(f for f in listed if f.startswith("figures/"))
+    # the same report again replaces its own files
+    build_report(SPEC, out, optimize=False)

@@ -16,6 +16,7 @@ from __future__ import annotations
 import asyncio
 import math
 import time
+from html import escape
 from pathlib import Path
 from typing import Dict
 
@@ -26,10 +27,11 @@ from diffsense.errors import DomainError, SpecError, UnitError
 from diffsense.explore import figures as F
 from diffsense.explore.session import ExplorerSession
 from diffsense.explore.tables import headline_html, requirements_html
+from diffsense.report.files import OutputError
 from diffsense.report.render import fmt, si_text
 
 SIDEBAR_WIDTH = 390
-USER_ERRORS = (SpecError, DomainError, UnitError)
+USER_ERRORS = (SpecError, DomainError, UnitError, OutputError)
 
 
 def _text(value: float, unit: str) -> str:
@@ -70,7 +72,7 @@ class ExplorerPage:
 
     def _note(self, text: str, ready: bool = False) -> None:
         flag = " data-ready='1'" if ready else ""
-        self.extras_note.object = f"<div style='color:#57606a;font-size:12px' data-role='extras'{flag}>{text}</div>"
+        self.extras_note.object = f"<div style='color:#57606a;font-size:12px' data-role='extras'{flag}>{escape(text)}</div>"
 
     async def prepare_extras(self) -> None:
         """Compile, off the event loop, the interval requirements' searches and then the curves'
@@ -182,9 +184,10 @@ class ExplorerPage:
         buttons = pn.Column(pn.Row(self.optimize_button, self.reset_button), self.progress,
                             pn.Row(self.save_path, self.save_button), pn.Row(self.report_dir, self.report_button))
         sidebar = pn.Column(buttons, self.message, *design, fixed, width=SIDEBAR_WIDTH)
-        title = pn.pane.HTML(f"<h2 style='margin:4px 0'>{self.spec.title}</h2>"
-                             f"<div style='color:#57606a'>{self.session.path} · {self.spec.sensor}</div>",
-                             sizing_mode="stretch_width")
+        # the spec's strings are data: escaped, never markup (a title may hold any text)
+        title = pn.pane.HTML(f"<h2 style='margin:4px 0'>{escape(self.spec.title)}</h2>"
+                             f"<div style='color:#57606a'>{escape(str(self.session.path))} · "
+                             f"{escape(self.spec.sensor)}</div>", sizing_mode="stretch_width")
         main = pn.Column(
             pn.Row(title, self.case), self.headline,
             pn.Row(pn.pane.Bokeh(self.waterfall, sizing_mode="stretch_width"),
@@ -258,7 +261,7 @@ class ExplorerPage:
     def say(self, text: str, kind: str = "info") -> None:
         colour = {"info": "#1f6feb", "ok": "#1a7f37", "error": "#cf222e"}[kind]
         self.message.object = (f"<div data-role='message' data-kind='{kind}' style='color:{colour};"
-                               f"white-space:pre-wrap;font-size:13px'>{text}</div>") if text else ""
+                               f"white-space:pre-wrap;font-size:13px'>{escape(text)}</div>") if text else ""
 
     # --- callbacks ----------------------------------------------------------------------------
     def _on_slider(self, name: str, value) -> None:

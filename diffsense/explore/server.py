@@ -2,11 +2,13 @@
 
 The spec is read and its program compiled once (:class:`~diffsense.explore.session.ExplorerSession`);
 every browser tab gets its own point (:meth:`ExplorerSession.fork`) on the same compiled
-program. The server listens on the loopback address only.
+program. The server listens on the loopback address only and answers only requests addressed
+to it by that name (:func:`answer_local_hosts_only`).
 """
 
 from __future__ import annotations
 
+import html
 import os
 import socket
 from typing import Optional
@@ -31,6 +33,59 @@ def free_port() -> int:
     with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
         probe.bind(("127.0.0.1", 0))
         return probe.getsockname()[1]
+
+
+def _local_hosts(port: int) -> frozenset:
+    return frozenset({f"127.0.0.1:{port}", f"localhost:{port}"})
+
+
+def answer_local_hosts_only(http_server, port: int) -> None:
+    """Make ``http_server`` (Tornado's, under the Bokeh server) answer only requests whose
+    ``Host`` header names this machine's loopback address and ``port``: a page of another site
+    whose name resolves to 127.0.0.1 (DNS rebinding) sends its own name as ``Host``, and gets
+    403 for the page and for the websocket alike (Bokeh's origin allow-list alone is not asked
+    when Tornado already found the websocket's ``Origin`` equal to its ``Host``)."""
+    from tornado import httputil
+
+    allowed = _local_hosts(port)
+    inner = http_server.request_callback
+
+    class Refusing(httputil.HTTPMessageDelegate):
+        def __init__(self, server_conn, request_conn):
+            self.server_conn, self.request_conn = server_conn, request_conn
+            self.delegate = None
+
+        def headers_received(self, start_line, headers):
+            if headers.get("Host", "") in allowed:
+                self.delegate = inner.start_request(self.server_conn, self.request_conn)
+                return self.delegate.headers_received(start_line, headers)
+            body = b"diffsense explore answers only http://127.0.0.1:%d/ and http://localhost:%d/\n" % (port, port)
+            self.request_conn.write_headers(
+                httputil.ResponseStartLine("HTTP/1.1", 403, "Forbidden"),
+                httputil.HTTPHeaders({"Content-Type": "text/plain; charset=utf-8", "Content-Length": str(len(body)),
+                                      "Connection": "close"}), body)
+            self.request_conn.finish()
+            return None
+
+        def data_received(self, chunk):
+            return None if self.delegate is None else self.delegate.data_received(chunk)
+
+        def finish(self):
+            if self.delegate is not None:
+                self.delegate.finish()
+
+        def on_connection_close(self):
+            if self.delegate is not None:
+                self.delegate.on_connection_close()
+
+    class LocalOnly(httputil.HTTPServerConnectionDelegate):
+        def start_request(self, server_conn, request_conn):
+            return Refusing(server_conn, request_conn)
+
+        def on_close(self, server_conn):
+            inner.on_close(server_conn)
+
+    http_server.request_callback = LocalOnly()
 
 
 def _panel():
@@ -70,8 +125,10 @@ def serve(session: ExplorerSession, *, port: int = 0, show: bool = True, on_read
 
     port = port or free_port()
     server = pn.serve({"/": app}, port=port, address="127.0.0.1", show=False, start=False,
-                      title=f"diffsense explore: {session.spec.title}",
-                      websocket_origin=[f"127.0.0.1:{port}", f"localhost:{port}"], threaded=False)
+                      # the page template puts the title in raw: escaped here (the tab shows the text)
+                      title=html.escape(f"diffsense explore: {session.spec.title}"),
+                      websocket_origin=sorted(_local_hosts(port)), threaded=False)
+    answer_local_hosts_only(server._http, port)
     server.start()
     url = f"http://127.0.0.1:{server.port}/"
     if on_ready is not None:
@@ -83,4 +140,4 @@ def serve(session: ExplorerSession, *, port: int = 0, show: bool = True, on_read
     server.io_loop.start()
 
 
-__all__ = ["explore", "serve", "prefer_fast_compilation", "XLA_FLAG"]
+__all__ = ["explore", "serve", "prefer_fast_compilation", "answer_local_hosts_only", "XLA_FLAG"]

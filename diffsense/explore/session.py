@@ -74,6 +74,8 @@ class ExplorerSession:
                                                for c in self.model.choice_names}
         self.fixed_names: List[str] = [i.name for i in self.inputs if i.kind == "fixed"]
         self.last_eval_ms: Optional[float] = None
+        #: the files this exploration wrote (shared by its forks): the only ones it replaces
+        self.written: set = set()
         self.reset()
 
     def fork(self) -> "ExplorerSession":
@@ -274,12 +276,23 @@ class ExplorerSession:
         return spec_file.write_point(self.document, initial=initial, options=self.options, fixed=self.typed)
 
     def save(self, path) -> Path:
-        """Write the spec with the current point as its initial design; returns the path."""
+        """Write the spec with the current point as its initial design; returns the path.
+
+        Never over the spec this exploration opened, and never over an existing file it did not
+        write itself (:class:`~diffsense.report.files.OutputError`); written atomically."""
+        from diffsense.report.files import OutputError, write_atomically
+
         path = Path(path)
+        if self.path is not None and path.exists() and Path(self.path).exists() and path.samefile(self.path):
+            raise OutputError(f"{path}: refusing to write over the spec this explorer opened; choose another name")
+        if path.is_dir():
+            raise OutputError(f"{path}: is a folder; give a file name")
+        if path.exists() and path.resolve() not in self.written:
+            raise OutputError(f"{path}: exists and was not written by this explorer; choose another name")
         doc = self.document_here()
         spec_file.checked_spec(doc, path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(doc.as_string())
+        write_atomically(path, doc.as_string().encode("utf-8"))
+        self.written.add(path.resolve())
         return path
 
     def spec_here(self) -> Spec:
@@ -308,9 +321,14 @@ class ExplorerSession:
         point (:func:`diffsense.build_report`, not optimised) beside it; returns its record."""
         from diffsense.report import build_report
 
+        from diffsense.report.build import report_folder
+        from diffsense.report.files import safe_name
+
         out_dir = Path(out_dir)
-        spec_path = self.save(out_dir / f"{self.spec.name}.toml")
-        return build_report(spec_path, out_dir, optimize=False)
+        spec_path = out_dir / f"{safe_name(self.spec.name)}.toml"  # the spec's name is data, not a path
+        folder = report_folder(out_dir, spec_path)  # checked before anything is written
+        self.save(spec_path)
+        return build_report(spec_path, folder, optimize=False)
 
 
 __all__ = ["ExplorerSession", "requirement_status", "ACTIVE_SLACK", "HEADLINE_OUTPUTS"]

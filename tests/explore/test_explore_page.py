@@ -191,3 +191,27 @@ def _evaluate(cwd, spec) -> str:
                           capture_output=True, text=True)
     assert done.returncode in (0, 3), done.stderr
     return out.read_text()
+
+
+def test_the_server_answers_only_its_own_name(server):
+    """DNS rebinding: a page of another site whose name resolves to 127.0.0.1 sends its own name
+    as Host (and as the websocket's Origin): refused, page and websocket alike; a foreign Origin
+    with our own Host is refused by the origin allow-list."""
+    import http.client
+
+    def get(host, path="/", headers=None):
+        conn = http.client.HTTPConnection("127.0.0.1", server.port, timeout=120)
+        conn.request("GET", path, headers={"Host": host, **(headers or {})})
+        response = conn.getresponse()
+        response.read()
+        conn.close()
+        return response.status
+
+    port = server.port
+    upgrade = {"Upgrade": "websocket", "Connection": "Upgrade", "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ==",
+               "Sec-WebSocket-Version": "13"}
+    assert get(f"evil.example:{port}") == 403
+    assert get(f"evil.example:{port}", "/ws", {"Origin": f"http://evil.example:{port}", **upgrade}) == 403
+    assert get(f"127.0.0.1:{port}", "/ws", {"Origin": "http://evil.example", **upgrade}) == 403
+    assert get(f"localhost:{port}") == 200
+    assert get(f"127.0.0.1:{port}") == 200

@@ -116,3 +116,59 @@ def test_report_of_the_current_point(sonar, tmp_path):
     assert [r["met"] for r in record["requirements"]] == [r["met"] for r in snap["requirements"]]
     for kind in ("html", "md", "json"):
         assert Path(record["files"][kind]).parent == tmp_path / "report" and Path(record["files"][kind]).is_file()
+
+
+def test_the_page_shows_spec_strings_as_text(tmp_path):
+    """A title (and any message) holding markup is shown as text: escaped in every HTML pane."""
+    import json
+
+    import panel as pn
+
+    from diffsense.explore.page import ExplorerPage
+
+    payload = '<img src=x onerror="document.title=\'owned\'">'
+    text = (SPECS / "sonar_power.toml").read_text()
+    text = "\n".join(f"title = {json.dumps(payload)}" if line.startswith("title") else line for line in text.splitlines())
+    spec = tmp_path / "hostile.toml"
+    spec.write_text(text + "\n")
+    page = ExplorerPage(ExplorerSession(spec))
+    page.say(f"cannot read {payload}", "error")
+    html = [p.object for p in page.layout.select(pn.pane.HTML)] + [page.message.object]
+    assert not any("<img" in h for h in html), [h for h in html if "<img" in h]
+    assert any("&lt;img src=x onerror=&quot;document.title=&#x27;owned&#x27;&quot;&gt;" in h for h in html)
+
+
+def test_saving_never_replaces_the_spec_or_a_file_it_did_not_write(sonar, tmp_path):
+    from diffsense.report.files import OutputError
+
+    s = sonar.fork()
+    opened = Path(s.path)
+    before = opened.read_bytes()
+    with pytest.raises(OutputError, match="spec this explorer opened"):
+        s.save(opened)
+    assert opened.read_bytes() == before
+    mine = tmp_path / "mine.toml"
+    mine.write_text("# my notes\n")
+    with pytest.raises(OutputError, match="not written by this explorer"):
+        s.save(mine)
+    assert mine.read_text() == "# my notes\n"
+    target = tmp_path / "here.toml"
+    s.save(target)
+    s.set_variable("electrical_power_w", 1500.0)
+    s.save(target)  # its own file: replaced
+    assert load_spec(target).variables["electrical_power_w"].initial == 1500.0
+
+
+def test_a_report_of_a_spec_named_like_a_path_stays_in_its_folder(tmp_path):
+    import json
+
+    text = (SPECS / "sonar_power.toml").read_text().replace('name = "sonar_power"', 'name = "../../escaped"', 1)
+    spec = tmp_path / "a" / "b" / "spec.toml"
+    spec.parent.mkdir(parents=True)
+    spec.write_text(text)
+    s = ExplorerSession(spec)
+    out = tmp_path / "a" / "b" / "report"
+    s.report(out)
+    assert not list(tmp_path.rglob("escaped.toml"))
+    assert [p.name for p in out.glob("*.toml")] == ["escaped-" + p.name.split("-")[-1] for p in out.glob("*.toml")]
+    assert json.loads((out / "report.json").read_text())["written_by"] == "diffsense"

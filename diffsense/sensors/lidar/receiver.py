@@ -339,9 +339,11 @@ def _cubic_root(c, k):
     below_one = k < 1.0
     k_c = jnp.where(below_one, k, 0.5)
     x2 = 6.75 * c * c * k_c / (1.0 - k_c) ** 3
-    x = jnp.sqrt(x2)
-    cardano = (~below_one) | (x >= 1.0)
-    series = (~cardano) & (x < 1e-4)
+    cardano = (~below_one) | (x2 >= 1.0)
+    series = (~cardano) & (x2 < 1e-8)
+    # x = sqrt(x2) only where a branch uses it: at k = 0 (x2 = 0, the series) the square root's
+    # infinite derivative would turn the discarded branches' zero cotangents into NaN
+    x = jnp.sqrt(jnp.where(series, 1.0, x2))
     linear = c / (1.0 - k_c)
     m_series = linear * (1.0 - (4.0 / 27.0) * x2)
     x_h = jnp.where(cardano | series, 0.5, x)

@@ -430,3 +430,21 @@ def test_chain_values_finite_at_domain_corners(scene):
     ev = _batch(scene, rows)
     for name, value in ev.values.items():
         assert np.all(np.isfinite(np.asarray(value))), name
+
+
+@pytest.mark.parametrize("c", [1e-3, 0.5, 2.0, 2e6])
+@pytest.mark.parametrize("k", [0.0, 1e-12, 1e-6, 0.02, 0.5, 1.0])
+def test_optimum_apd_gain_derivatives_by_the_implicit_function_theorem(c, k):
+    """M solves k M³ + (1 − k) M = c: dM/dc = 1 / (3 k M² + 1 − k) and dM/dk = −(M³ − M) / (3 k M² + 1 − k),
+    finite over the whole documented range of k, k = 0 included (M = c there)."""
+    import jax
+    import jax.numpy as jnp
+
+    from diffsense.sensors.lidar.receiver import _cubic_root
+
+    m, (dm_dc, dm_dk) = jax.value_and_grad(_cubic_root, argnums=(0, 1))(jnp.float64(c), jnp.float64(k))
+    m = float(m)
+    assert k * m**3 + (1 - k) * m == pytest.approx(c, rel=1e-12)
+    denominator = 3 * k * m * m + 1 - k
+    assert float(dm_dc) == pytest.approx(1 / denominator, rel=1e-9)
+    assert float(dm_dk) == pytest.approx(-(m**3 - m) / denominator, rel=1e-8, abs=1e-12 * max(1.0, m**3))

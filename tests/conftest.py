@@ -31,6 +31,9 @@ import jax  # noqa: E402  (after XLA_FLAGS)
 
 jax.config.update("jax_compilation_cache_dir", _CACHE_DIR)
 jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
+# as the command line: a size limit makes JAX lock the folder around each read and write, so a
+# worker never reads an entry the other is still writing
+jax.config.update("jax_compilation_cache_max_size", 4 * 2**30)
 
 
 @pytest.fixture(autouse=True, scope="module")

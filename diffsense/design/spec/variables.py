@@ -103,13 +103,19 @@ def _range_variable(file, key: str, name: str, vt: Mapping, prm: Param) -> Varia
     integer = vt.get("integer", prm.integer)
     if not isinstance(integer, bool):
         raise SpecError(file, f"{key}.integer", f"must be true or false; got {echo(integer)}")
-    if integer and math.floor(hi) < math.ceil(lo):
-        raise SpecError(file, key, f"no integer lies between the bounds {number_text(lo)} and {number_text(hi)}")
+    if integer:
+        for bound, value in (("lower", lo), ("upper", hi)):
+            if value != math.floor(value):
+                raise SpecError(file, f"{key}.{bound}", f"must be a whole number for an integer variable; "
+                                f"got {echo(vt[bound])}")
     if "initial" in vt:
         x0 = quantity(file, f"{key}.initial", vt["initial"], prm.unit)
         if not lo <= x0 <= hi:
             raise SpecError(file, f"{key}.initial", f"{echo(vt['initial'])} lies outside the bounds "
                             f"[{number_text(lo)}, {number_text(hi)}] {prm.unit}")
+        if integer and x0 != math.floor(x0):
+            raise SpecError(file, f"{key}.initial", f"must be a whole number for an integer variable; "
+                            f"got {echo(vt['initial'])}")
     else:
         x0 = math.sqrt(lo * hi) if scale == "log" else 0.5 * (lo + hi)
     return Variable(name, prm.unit, lo, hi, x0, scale == "log", integer)

@@ -7,7 +7,7 @@ from typing import List, Optional
 
 import typer
 
-from diffsense.cli.output import EXIT_BAD_INPUT, clip
+from diffsense.cli.output import EXIT_BAD_INPUT, clip, refuse
 from diffsense.cli.state import reporter_from
 
 
@@ -47,8 +47,7 @@ def detection(
             folder = OutputFolder(out, force=force)
             folder.check(names)
         except OutputError as exc:
-            reporter.error(str(exc))
-            raise typer.Exit(code=EXIT_BAD_INPUT)
+            refuse(reporter, str(exc))
     grid_n, grid_pd = (a.ravel() for a in np.meshgrid(np.asarray(ns), np.asarray(pds), indexing="ij"))
     try:
         with reporter.step("computing the exact detectability"):

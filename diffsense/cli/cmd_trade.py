@@ -10,7 +10,7 @@ from typing import Optional
 import typer
 
 from diffsense.cli.cmd_design import DESIGN_FILE, FORCE
-from diffsense.cli.output import EXIT_BAD_INPUT, EXIT_UNMET, check_json_target, fmt, write_json
+from diffsense.cli.output import EXIT_BAD_INPUT, EXIT_UNMET, check_json_target, fmt, refuse, write_json
 from diffsense.cli.state import reporter_from
 
 
@@ -35,8 +35,7 @@ def trade(
     try:
         folder = trade_folder(out, design_file, force)
     except OutputError as exc:
-        reporter.error(str(exc))
-        raise typer.Exit(code=EXIT_BAD_INPUT)
+        refuse(reporter, str(exc))
     try:
         with reporter.step(f"reading {design_file}"):
             spec = trade_spec(load_spec(design_file))

@@ -96,9 +96,12 @@ def _avals(args):
     return jax.tree_util.tree_map(lambda a: jax.ShapeDtypeStruct(np.shape(a), jax.numpy.result_type(a)), args)
 
 
-def _write_atomically(path: Path, data: bytes) -> None:
+def write_atomically(path: Path, data: bytes) -> None:
+    """Write ``data`` to ``path`` through a temporary file in the same folder renamed into place
+    (a reader sees the old file or the new one, never half of one)."""
+    path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
@@ -175,7 +178,7 @@ class Program:
             self.unsupported = True
             if unsupported is not None:
                 try:
-                    _write_atomically(unsupported, str(exc).encode())
+                    write_atomically(unsupported, str(exc).encode())
                 except OSError:
                     pass
             raise
@@ -183,7 +186,7 @@ class Program:
             self.operations = exported.mlir_module().count("stablehlo.")
         if path is not None:
             try:
-                _write_atomically(path, exported.serialize())
+                write_atomically(path, exported.serialize())
             except OSError:
                 pass  # a read-only cache still runs, tracing again next time
         return exported
@@ -316,6 +319,6 @@ def compile_pool() -> concurrent.futures.ThreadPoolExecutor:
     return _POOL
 
 
-__all__ = ["Program", "LazyProgram", "register_serializable", "code_version", "cache_folder", "compile_pool", "report_programs",
+__all__ = ["Program", "LazyProgram", "register_serializable", "write_atomically", "code_version", "cache_folder", "compile_pool", "report_programs",
            "COMPILATIONS", "TRACES", "LOG_VARIABLE"]
 

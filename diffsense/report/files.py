@@ -23,9 +23,10 @@ import hashlib
 import json
 import os
 import re
-import tempfile
 from pathlib import Path
 from typing import Dict, Iterable, Optional
+
+from diffsense.optimize.programs import write_atomically  # the package's one atomic write, re-exported
 
 #: the manifest of a folder diffsense writes into (relative paths of the files it wrote)
 MANIFEST = ".diffsense-files.json"
@@ -55,30 +56,20 @@ def safe_name(text: str, limit: int = 48) -> str:
     return f"{cleaned or 'file'}-{digest}"
 
 
-def write_atomically(path: Path, data: bytes) -> None:
-    """Write ``data`` to ``path`` through a temporary file in the same folder renamed into place."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-
-
 def _digest(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
 
-def _same_file(a: Path, b: Path) -> bool:
-    try:
-        return a.exists() and b.exists() and os.path.samefile(a, b)
-    except OSError:
-        return False
+def _protected(path: Path, protect: Iterable[Path]) -> bool:
+    """``path`` is one of the files ``protect`` (the same file, by any name)."""
+    for p in protect:
+        p = Path(p)
+        try:
+            if path.resolve() == p.resolve() or (path.exists() and p.exists() and os.path.samefile(path, p)):
+                return True
+        except OSError:
+            continue
+    return False
 
 
 def _is_ours(path: Path) -> bool:
@@ -96,9 +87,8 @@ def check_single_file(path: Path, protect: Iterable[Path] = (), force: bool = Fa
     (the spec read), over a folder, or over an existing file diffsense did not write (without
     ``force``)."""
     path = Path(path)
-    for p in protect:
-        if _same_file(path, Path(p)) or path.resolve() == Path(p).resolve():
-            raise OutputError(f"{path}: refusing to write over the spec this command reads; choose another file")
+    if _protected(path, protect):
+        raise OutputError(f"{path}: refusing to write over the spec this command reads; choose another file")
     if path.is_dir():
         raise OutputError(f"{path}: is a folder; give a file name")
     if path.exists() and not force and not _is_ours(path):
@@ -169,9 +159,8 @@ class OutputFolder:
         if any(p in ("", ".", "..") or p != safe_name(p, limit=200) for p in parts):
             raise OutputError(f"{self.path}: refusing the unsafe file name {relative!r}")
         path = self.path.joinpath(*parts)
-        for p in self.protect:
-            if _same_file(path, p):
-                raise OutputError(f"{path}: refusing to write over the spec this command reads; choose another --out")
+        if _protected(path, self.protect):
+            raise OutputError(f"{path}: refusing to write over the spec this command reads; choose another --out")
         if path.is_dir():
             raise OutputError(f"{path}: is a folder where diffsense writes a file; choose another --out")
         if path.exists() and not self.force and not self._ours(relative, path):

@@ -80,6 +80,7 @@ CHILD = textwrap.dedent("""
     import sys, json
     import jax
     jax.config.update("jax_compilation_cache_dir", sys.argv[2])
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)  # as the command line: keep every compilation
     import diffsense
     from diffsense.design.model import DesignModel
     from diffsense.design.spec import load_spec

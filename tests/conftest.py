@@ -33,7 +33,9 @@ jax.config.update("jax_compilation_cache_dir", _CACHE_DIR)
 jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
 # as the command line: a size limit makes JAX lock the folder around each read and write, so a
 # worker never reads an entry the other is still writing
-jax.config.update("jax_compilation_cache_max_size", 4 * 2**30)
+from diffsense.optimize.programs import lock_compilation_cache  # noqa: E402
+
+lock_compilation_cache()
 
 
 @pytest.fixture(autouse=True, scope="module")

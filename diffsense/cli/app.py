@@ -26,10 +26,6 @@ from diffsense.cli.cmd_trade import trade
 from diffsense.cli.output import EXIT_BAD_INPUT, Reporter, clip
 from diffsense.cli.state import RunState
 
-#: size limit of the persistent compilation cache (bytes): with it JAX locks the cache folder
-#: around each read and write, and evicts the least recently used entries beyond it
-CACHE_MAX_BYTES = 4 * 2**30
-
 app = typer.Typer(add_completion=False, no_args_is_help=True, rich_markup_mode=None,
                   pretty_exceptions_enable=False,
                   help="diffsense: differentiable sensor design. Run 'diffsense COMMAND --help' for a command.")
@@ -65,7 +61,9 @@ def _configure_jax() -> None:
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
     # a size limit makes JAX lock the cache folder around each read and write (filelock): two
     # processes never read an entry half written (README, Dependencies)
-    jax.config.update("jax_compilation_cache_max_size", CACHE_MAX_BYTES)
+    from diffsense.optimize.programs import lock_compilation_cache
+
+    lock_compilation_cache()
 
 
 def main(argv=None) -> None:

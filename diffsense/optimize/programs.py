@@ -92,6 +92,32 @@ def cache_folder() -> Optional[Path]:
     return Path(base) / "programs" if base else None
 
 
+#: size limit of JAX's persistent compilation cache (bytes), see :func:`lock_compilation_cache`
+CACHE_MAX_BYTES = 4 * 2**30
+#: marks a cache folder whose entries all have JAX's access-time files (:func:`lock_compilation_cache`)
+_LOCKED_MARK = ".diffsense-lru"
+
+
+def lock_compilation_cache(max_bytes: int = CACHE_MAX_BYTES) -> None:
+    """Give JAX's persistent compilation cache (``jax_compilation_cache_dir``, set before) a size
+    limit: JAX then locks the folder around each read and write (``filelock``), so no process
+    loads an entry another is still writing, and evicts the least recently used entries beyond
+    ``max_bytes``. Its eviction reads an access-time file beside every entry; entries written
+    without a limit (by an earlier version) have none, and every later write would fail. So once
+    per folder each such entry gets one (its modification time), and a mark file records it."""
+    folder = jax.config.jax_compilation_cache_dir
+    if folder and os.path.isdir(folder) and not os.path.exists(os.path.join(folder, _LOCKED_MARK)):
+        try:
+            for entry in Path(folder).glob("*-cache"):
+                stamp = entry.with_name(entry.name[:-len("-cache")] + "-atime")
+                if not stamp.exists():
+                    write_atomically(stamp, entry.stat().st_mtime_ns.to_bytes(8, "little"))
+            write_atomically(Path(folder) / _LOCKED_MARK, b"entries carry access times\n")
+        except OSError:
+            pass  # a read-only cache: JAX warns on its own writes
+    jax.config.update("jax_compilation_cache_max_size", max_bytes)
+
+
 def _avals(args):
     return jax.tree_util.tree_map(lambda a: jax.ShapeDtypeStruct(np.shape(a), jax.numpy.result_type(a)), args)
 
@@ -319,6 +345,7 @@ def compile_pool() -> concurrent.futures.ThreadPoolExecutor:
     return _POOL
 
 
-__all__ = ["Program", "LazyProgram", "register_serializable", "write_atomically", "code_version", "cache_folder", "compile_pool", "report_programs",
+__all__ = ["Program", "LazyProgram", "register_serializable", "write_atomically", "lock_compilation_cache",
+           "CACHE_MAX_BYTES", "code_version", "cache_folder", "compile_pool", "report_programs",
            "COMPILATIONS", "TRACES", "LOG_VARIABLE"]
 

@@ -115,3 +115,30 @@ def test_a_second_process_loads_the_traced_program(tmp_path):
     # weakly typed outputs when traced and not when loaded: its packing must not tell them apart)
     for name in ("check", "outputs"):
         assert len(list((tmp_path / "cache").glob(f"jit_{name}-*"))) == 1, name
+
+
+LEGACY = textwrap.dedent("""
+    import sys, warnings
+    import jax, jax.numpy as jnp
+    jax.config.update("jax_compilation_cache_dir", sys.argv[1])
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
+    if sys.argv[2] == "locked":
+        from diffsense.optimize.programs import lock_compilation_cache
+        lock_compilation_cache()
+    warnings.simplefilter("error")  # JAX reports a failed cache write as a warning
+    jax.jit(lambda a: jnp.sin(a) * float(sys.argv[3]))(1.0).block_until_ready()
+""")
+
+
+def test_a_cache_written_without_a_size_limit_keeps_working_with_one(tmp_path):
+    """Entries written before the cache had a size limit (no access-time files) are adopted: a
+    locked process writes its own entries beside them without a failure."""
+    env = dict(os.environ, PYTHONPATH=str(REPO))
+    cache = tmp_path / "cache"
+    for mode, factor in (("legacy", "2.0"), ("locked", "3.0"), ("locked", "4.0")):
+        out = subprocess.run([sys.executable, "-c", LEGACY, str(cache), mode, factor], env=env,
+                             capture_output=True, text=True, timeout=300)
+        assert out.returncode == 0, out.stderr[-3000:]
+    entries = sorted(p.name[:-len("-cache")] for p in cache.glob("*-cache"))
+    assert len(entries) >= 3
+    assert entries == sorted(p.name[:-len("-atime")] for p in cache.glob("*-atime"))

@@ -19,12 +19,46 @@ class UnitError(ValueError):
     """A quantity could not be read or converted to the required unit."""
 
 
+#: the longest message of a :class:`SpecError` (characters): with "error: " in front it fits in
+#: five rows of an 80-column terminal
+MAX_MESSAGE = 393
+#: the longest file name and key shown in a message (characters)
+MAX_FILE, MAX_KEY = 160, 72
+
+
+def one_line(text, limit: int, keep_end: bool = False) -> str:
+    """``text`` on one line with every control or format character escaped (``\\x1b``), at most
+    ``limit`` characters: cut with "…" (at the start when ``keep_end``, as for a file path whose
+    name is at its end).
+
+    >>> one_line("a\x1b[2Jb", 40)
+    'a\\\\x1b[2Jb'
+    >>> one_line("/very/long/folder/spec.toml", 14, keep_end=True)
+    '…der/spec.toml'
+    """
+    s = "".join(ch if ch.isprintable() else ch.encode("unicode_escape").decode() for ch in str(text))
+    if len(s) <= limit:
+        return s
+    return "…" + s[len(s) - limit + 1:] if keep_end else s[:limit - 1] + "…"
+
+
 class SpecError(ValueError):
-    """An invalid requirement spec: ``file``, ``key`` (dotted path) and what is wrong."""
+    """An invalid requirement spec: ``file``, ``key`` (dotted path) and what is wrong.
+
+    The message is one line of at most :data:`MAX_MESSAGE` characters whatever the spec holds:
+    control characters escaped, a long file name shortened at its start, a long key and problem
+    at their end.
+
+    >>> str(SpecError("spec.toml", "fixed." + "k" * 500, "unknown parameter"))[:40]
+    "spec.toml: key 'fixed.kkkkkkkkkkkkkkkkkk"
+    >>> len(str(SpecError("spec.toml", "fixed." + "k" * 500, "x" * 5000))) <= MAX_MESSAGE
+    True
+    """
 
     def __init__(self, file, key: str, problem: str):
         self.file = str(file)
-        self.key = key
-        self.problem = problem
-        where = f"key '{key}': " if key else ""
-        super().__init__(f"{self.file}: {where}{problem}")
+        self.key = one_line(key, MAX_KEY)
+        where = f"key '{self.key}': " if key else ""
+        head = f"{one_line(self.file, MAX_FILE, keep_end=True)}: {where}"
+        self.problem = one_line(problem, MAX_MESSAGE - len(head))
+        super().__init__(head + self.problem)

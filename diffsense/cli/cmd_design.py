@@ -29,11 +29,16 @@ def load_model(design_file: Path, reporter: Reporter, *, starts: Optional[int] =
     from diffsense.design.model import DesignModel
     from diffsense.design.optimizer import prepare
     from diffsense.design.spec import load_spec
+    from diffsense.design.spec.limits import DEFAULT_STARTS, check_work, require_variables
     from diffsense.errors import SpecError
 
     try:
         with reporter.step(f"reading {clip(design_file)}"):
             spec = load_spec(design_file)
+            if starts:
+                require_variables(spec)
+                if starts != DEFAULT_STARTS:
+                    check_work(spec.path, spec, starts, starts_key="--starts")
             model = DesignModel(spec)
         with reporter.step("compiling the design programs" if starts else "compiling the evaluation programs"):
             # the small check program first: it compiles on one core while this thread traces the

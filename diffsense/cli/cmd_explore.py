@@ -5,10 +5,11 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
+from typing import Optional
 
 import typer
 
-from diffsense.cli.output import EXIT_BAD_INPUT
+from diffsense.cli.output import EXIT_BAD_INPUT, clip, refuse
 from diffsense.cli.state import reporter_from
 
 DESIGN_FILE = typer.Argument(..., help="Requirement spec (TOML), e.g. designs/ore_pass.toml.", show_default=False)
@@ -19,12 +20,16 @@ def explore(
     design_file: Path = DESIGN_FILE,
     port: int = typer.Option(0, "--port", min=0, max=65535, help="Port on 127.0.0.1 (0: any free port)."),
     no_browser: bool = typer.Option(False, "--no-browser", help="Do not open a browser; print the address only."),
+    out: Optional[Path] = typer.Option(None, "--out", help="Folder for the specs and reports the page writes "
+                                       "(default: <spec name>_explored beside the spec)."),
 ):
     """Serve a live explorer of a spec: sliders for the design, budgets, SNR and Pd against range,
     requirements, objective and elasticities recomputed as you move them."""
     from diffsense.errors import SpecError
 
     reporter = reporter_from(ctx)
+    if out is not None and out.exists() and not out.is_dir():
+        refuse(reporter, f"--out {clip(out)}: is a file; the explorer writes into a folder")
     try:
         from diffsense.explore.server import serve
     except ImportError as exc:
@@ -35,7 +40,7 @@ def explore(
     t0 = time.perf_counter()
     try:
         with reporter.step(f"reading {design_file} and compiling its evaluation"):
-            session = ExplorerSession(design_file)
+            session = ExplorerSession(design_file, out_dir=out)
             session.snapshot(extras=None)  # the quick program; the rest compiles once a page is open
     except SpecError as exc:
         reporter.error(str(exc))

@@ -21,7 +21,7 @@ from rich.text import Text
 #: the longest piece of user text echoed in a message (characters)
 MAX_ECHO = 160
 #: the longest error line (characters): one message naming the file, the key and the problem
-MAX_ERROR = 1000
+MAX_ERROR = 393
 #: exit codes: bad input, and a well-formed design that leaves a requirement unmet
 EXIT_BAD_INPUT = 2
 EXIT_UNMET = 3
@@ -39,6 +39,16 @@ def clip(text: object, limit: int = MAX_ECHO) -> str:
     if len(s) <= limit:
         return s
     return f"{s[:limit - 3]}… ({len(s)} characters)"
+
+
+def plain(text: object) -> str:
+    """``text`` with every control or format character escaped (no length limit): what reaches
+    a terminal is never an escape sequence.
+
+    >>> plain("a\x1b[2Jb")
+    'a\\\\x1b[2Jb'
+    """
+    return "".join(ch if ch.isprintable() or ch == "\n" else ch.encode("unicode_escape").decode() for ch in str(text))
 
 
 def fmt(value: float) -> str:
@@ -87,8 +97,8 @@ class Reporter:
         self.err.print(Text.assemble((f"{label}:", "yellow"), " ", clip(message, MAX_ERROR)))
 
     def info(self, message: str) -> None:
-        """A line of output (stdout): files written, summaries."""
-        self.out.print(Text(message))
+        """A line of output (stdout): files written, summaries (control characters escaped)."""
+        self.out.print(Text(plain(message)))
 
     @contextlib.contextmanager
     def step(self, text: str) -> Iterator[None]:
@@ -96,16 +106,18 @@ class Reporter:
         if not self.interactive:
             yield
             return
-        with self.err.status(Text(text), spinner="dots"):
+        with self.err.status(Text(plain(text)), spinner="dots"):
             yield
 
     def table(self, title: str, columns, rows, right=()) -> None:
-        """Print a table; cells are plain text (never markup)."""
-        t = Table(title=title)
+        """Print a table; title, headers and cells are plain text (never markup), control
+        characters escaped."""
+        t = Table(title=Text(plain(title)))
         for c in columns:
-            t.add_column(c, justify="right" if c in right else "left")
+            t.add_column(Text(plain(c)), justify="right" if c in right else "left")
         for row in rows:
-            t.add_row(*(cell if isinstance(cell, Text) else Text(str(cell)) for cell in row))
+            t.add_row(*(Text(plain(cell.plain), style=cell.style) if isinstance(cell, Text) else Text(plain(cell))
+                        for cell in row))
         self.out.print(t)
 
 

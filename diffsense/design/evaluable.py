@@ -98,17 +98,17 @@ def _case_parameters(spec: Spec, case: str, values: Dict[str, float]) -> Dict[st
     return {name: values.get(name, spec.fixed[case].get(name, prm.default)) for name, prm in table.items()}
 
 
-def check_evaluable(model) -> None:
-    """Raise :class:`SpecError` unless every output the spec uses is finite at the initial design
-    and at the corners of the box of every catalog combination (see the module text), evaluated
-    by the model's own compiled program (no program of its own)."""
+def check_evaluable(model):
+    """Raise :class:`SpecError` unless every output the spec uses, and the objective, is finite
+    at the initial design and at the corners of the box of every catalog combination (see the
+    module text), evaluated by the model's own compiled program (no program of its own).
+    Returns ``(where, V, evaluations)``: the points' descriptions, input vectors and
+    evaluations, for further checks of the same points."""
     spec = model.spec
     points = _design_points(spec)
     used = {case: _case_outputs(spec, case) for case in spec.scenes}
-    if not any(used.values()):
-        return
     V = np.stack([_vector(model, values) for _, values in points])
-    evaluations = model.programs.values_rows(V)[0]
+    evaluations, _, _, objective = model.programs.values_rows(V)
     for case, outs in used.items():
         for out, key in outs.items():
             values = np.asarray(evaluations[case].values[out], dtype=float)
@@ -118,6 +118,14 @@ def check_evaluable(model) -> None:
                 where, design = points[j]
                 _diagnose(spec, case, spec.scenes[case], _case_parameters(spec, case, design), where, out, key,
                           float(values[j]))
+    objective = np.asarray(objective, dtype=float)
+    bad = np.flatnonzero(~np.isfinite(objective))
+    if bad.size:
+        j = int(bad[0])
+        raise SpecError(spec.path, "objective", f"the objective ({spec.objective.text}) is "
+                        f"{number_text(objective[j])} at {points[j][0]}: its weights overflow the numbers; "
+                        "rescale them (only their ratios matter)")
+    return [where for where, _ in points], V, evaluations
 
 
 def _vector(model, design: Dict[str, float]) -> np.ndarray:

@@ -25,6 +25,7 @@ import weakref
 from dataclasses import dataclass
 from typing import Dict, List, Optional, Union
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -113,6 +114,29 @@ class TradeObjectives:
                 total += w[k] * float(np.asarray(val))
             out.append(total)
         return np.array(out)
+
+
+def check_trade_objectives(model: DesignModel, where, V, evaluations) -> None:
+    """Raise :class:`SpecError` for a trade objective that is not finite, or has one value, at
+    every point of :func:`diffsense.design.evaluable.check_evaluable` (the initial design and the
+    box corners of every catalog combination checked; ``where``, ``V``, ``evaluations`` its
+    return): a constant objective adds nothing to a front. Costs enter as 0: an objective with
+    a catalog cost is never constant (:func:`diffsense.design.spec.trade.check_trade`)."""
+    objectives = TradeObjectives(model, model.spec.trade.objectives)
+    rows = [objectives.host_values(V[i], 0.0, jax.tree_util.tree_map(lambda a, i=i: np.asarray(a)[i], evaluations))
+            for i in range(V.shape[0])]
+    F = np.asarray(rows, dtype=float)
+    for k, o in enumerate(objectives.objectives):
+        key = f"trade.objectives[{k}]"
+        bad = np.flatnonzero(~np.isfinite(F[:, k]))
+        if bad.size:
+            raise SpecError(model.spec.path, key, f"{o.text} is {F[bad[0], k]:g} at {where[bad[0]]}: "
+                            "its weights overflow the numbers; rescale them")
+        has_cost = any(name == "cost" for name, _ in o.terms)
+        spread = np.ptp(F[:, k])
+        if not has_cost and spread <= 1e-12 * max(1.0, float(np.max(np.abs(F[:, k])))):
+            raise SpecError(model.spec.path, key, f"constant: {o.text} is {F[0, k]:g} at the initial design and at "
+                            "every corner of the variables' box, so it adds nothing to a front")
 
 
 @dataclass

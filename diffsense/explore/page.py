@@ -25,7 +25,7 @@ from bokeh.models import ColumnDataSource
 
 from diffsense.errors import DomainError, SpecError, UnitError
 from diffsense.explore import figures as F
-from diffsense.explore.session import ExplorerSession
+from diffsense.explore.session import ExplorerSession, FileExists
 from diffsense.explore.tables import headline_html, requirements_html
 from diffsense.report.files import OutputError
 from diffsense.report.render import fmt, si_text
@@ -42,10 +42,19 @@ def _text(value: float, unit: str) -> str:
     return f"{fmt(value, 6)} {unit.replace('**', '^')}" if unit not in ("", "1") else fmt(value, 6)
 
 
+def _shown_path(path) -> str:
+    """``path`` relative to the working folder when inside it, else absolute."""
+    path = Path(path).absolute()
+    try:
+        return str(path.relative_to(Path.cwd()))
+    except ValueError:
+        return str(path)
+
+
 class ExplorerPage:
     """The page of one :class:`ExplorerSession` (``.layout`` is the Panel object to show)."""
 
-    def __init__(self, session: ExplorerSession, *, save_path=None, report_dir=None):
+    def __init__(self, session: ExplorerSession, *, save_name=None, report_name=None):
         self.session = session
         self.spec = session.spec
         self._syncing = False
@@ -56,9 +65,19 @@ class ExplorerPage:
         self.output = pn.widgets.Select(name="elasticities of", options=session.output_labels(), width=300)
         self.message = pn.pane.HTML("", sizing_mode="stretch_width", css_classes=["ds-message"])
         self.progress = pn.indicators.Progress(active=False, value=-1, visible=False, sizing_mode="stretch_width")
-        self.save_path = pn.widgets.TextInput(name="save as", value=str(save_path or f"{stem}_explored.toml"), width=230)
-        self.report_dir = pn.widgets.TextInput(name="report directory", value=str(report_dir or f"{stem}_report"),
+        # file names only: everything is written in the session's one output folder
+        self.save_path = pn.widgets.TextInput(name="save as (.toml)", value=str(save_name or f"{stem}_explored"),
+                                              width=230)
+        self.report_dir = pn.widgets.TextInput(name="report folder", value=str(report_name or f"{stem}_report"),
                                                width=230)
+        self.folder_note = pn.pane.HTML(f"<div style='color:#57606a;font-size:90%'>files go to "
+                                        f"{escape(_shown_path(session.out_dir))}/</div>", sizing_mode="stretch_width")
+        self.confirm_text = pn.pane.HTML("", sizing_mode="stretch_width", css_classes=["ds-confirm"])
+        self.confirm_button = pn.widgets.Button(name="replace", button_type="danger", width=100)
+        self.cancel_button = pn.widgets.Button(name="cancel", button_type="default", width=100)
+        self.confirm = pn.Column(self.confirm_text, pn.Row(self.confirm_button, self.cancel_button), visible=False,
+                                 sizing_mode="stretch_width")
+        self._pending = None
         # the numbers first (the core program); the curves and elasticities once their larger
         # program is compiled, after the page is shown (prepare_extras)
         self.snap = session.snapshot(extras=None)
@@ -173,6 +192,8 @@ class ExplorerPage:
         self.reset_button.on_click(lambda e: self.reset())
         self.save_button.on_click(lambda e: self.save())
         self.report_button.on_click(self._on_report)
+        self.confirm_button.on_click(self._on_confirm)
+        self.cancel_button.on_click(lambda e: self._ask(None))
 
     def _layout(self):
         design = [pn.pane.HTML("<b>Design variables</b>")]
@@ -182,7 +203,8 @@ class ExplorerPage:
         fixed = pn.Card(pn.GridBox(*self.fixed_boxes.values(), ncols=2), title=f"Fixed parameters ({len(self.fixed_boxes)})",
                         collapsed=True, sizing_mode="stretch_width")
         buttons = pn.Column(pn.Row(self.optimize_button, self.reset_button), self.progress,
-                            pn.Row(self.save_path, self.save_button), pn.Row(self.report_dir, self.report_button))
+                            pn.Row(self.save_path, self.save_button), pn.Row(self.report_dir, self.report_button),
+                            self.folder_note, self.confirm)
         sidebar = pn.Column(buttons, self.message, *design, fixed, width=SIDEBAR_WIDTH)
         # the spec's strings are data: escaped, never markup (a title may hold any text)
         title = pn.pane.HTML(f"<h2 style='margin:4px 0'>{escape(self.spec.title)}</h2>"
@@ -329,14 +351,34 @@ class ExplorerPage:
         self.say("reset to the spec's initial design", "info")
         self.refresh()
 
-    def save(self) -> None:
+    def _ask(self, pending, path=None) -> None:
+        """Ask before replacing ``path`` (``pending``: what to run once the user confirms);
+        ``None`` withdraws the question."""
+        self._pending = pending
+        self.confirm.visible = pending is not None
+        self.confirm_text.object = "" if path is None else f"<b>{escape(str(path))}</b> exists: replace it?"
+
+    async def _on_confirm(self, event=None) -> None:
+        pending, self._pending = self._pending, None
+        self._ask(None)
+        if pending is not None:
+            await pending()
+
+    def save(self, replace: bool = False) -> None:
+        name = self.save_path.value
         try:
-            path = self.session.save(Path(self.save_path.value).expanduser())
+            path = self.session.save(name, replace=replace)
+        except FileExists as exc:
+            async def again():
+                self.save(replace=True)
+            self._ask(again, exc.path)
+            self.say(f"{exc.path} exists: replace it, or choose another name", "info")
         except USER_ERRORS as exc:
             self.say(str(exc), "error")
         except OSError as exc:
-            self.say(f"cannot write {self.save_path.value}: {exc.strerror}", "error")
+            self.say(f"cannot write {name}: {exc.strerror}", "error")
         else:
+            self._ask(None)
             self.say(f"wrote {path.resolve()}", "ok")
 
     async def _run(self, what: str, job):
@@ -365,11 +407,16 @@ class ExplorerPage:
         state = "optimum" if result.feasible else "best compromise (infeasible: " + "; ".join(result.unmet) + ")"
         self.say(f"{state}: objective {fmt(result.objective)} in {seconds:.1f} s", "ok" if result.feasible else "error")
 
-    async def _on_report(self, event=None) -> None:
-        out = Path(self.report_dir.value).expanduser()
+    async def _on_report(self, event=None, replace: bool = False) -> None:
+        name = self.report_dir.value
+        out = self.session.target(name)
         try:
             record, seconds = await self._run(f"writing the report of this point to {out} …",
-                                              lambda: self.session.report(out))
+                                              lambda: self.session.report(name, replace=replace))
+        except FileExists as exc:
+            self._ask(lambda: self._on_report(replace=True), exc.path)
+            self.say(f"{exc.path} exists: replace it, or choose another name", "info")
+            return
         except USER_ERRORS as exc:
             self.say(str(exc), "error")
             return

@@ -8,8 +8,8 @@ to it by that name (:func:`answer_local_hosts_only`).
 
 from __future__ import annotations
 
-import html
 import os
+import re
 import socket
 from typing import Optional
 
@@ -95,14 +95,15 @@ def _panel():
     return pn
 
 
-def explore(spec_or_path, *, session: Optional[ExplorerSession] = None):
+def explore(spec_or_path, *, session: Optional[ExplorerSession] = None, out_dir=None):
     """The explorer of a spec (a TOML path or a loaded spec) as a Panel object: shown by a
-    Jupyter cell that ends with it; ``.session`` holds the point and ``.page`` the widgets."""
+    Jupyter cell that ends with it; ``.session`` holds the point and ``.page`` the widgets;
+    ``out_dir``: the folder its files go to (default: ``<spec name>_explored`` beside the spec)."""
     prefer_fast_compilation()
     _panel()
     from diffsense.explore.page import ExplorerPage
 
-    session = session or ExplorerSession(spec_or_path)
+    session = session or ExplorerSession(spec_or_path, out_dir=out_dir)
     # a notebook cell shows the whole explorer when it finishes: every program compiled first
     # (the served page instead loads in steps, see ExplorerPage.prepare_extras)
     session.prepare_core()
@@ -112,6 +113,17 @@ def explore(spec_or_path, *, session: Optional[ExplorerSession] = None):
     view.page = page
     view.session = page.session
     return view
+
+
+def tab_title(title: str) -> str:
+    """The browser tab's text for a spec ``title``: without the characters HTML gives a meaning
+    (``< > & " '``), so that it reads the same whether a page template escapes it (Panel's
+    page does) or not (its error page does not), and never becomes markup.
+
+    >>> tab_title('<img src=x onerror="alert(1)">')
+    'diffsense explore: img src=x onerror=alert(1)'
+    """
+    return "diffsense explore: " + re.sub(r"[<>&\"']", "", title)
 
 
 def serve(session: ExplorerSession, *, port: int = 0, show: bool = True, on_ready=None):
@@ -125,8 +137,7 @@ def serve(session: ExplorerSession, *, port: int = 0, show: bool = True, on_read
 
     port = port or free_port()
     server = pn.serve({"/": app}, port=port, address="127.0.0.1", show=False, start=False,
-                      # the page template puts the title in raw: escaped here (the tab shows the text)
-                      title=html.escape(f"diffsense explore: {session.spec.title}"),
+                      title=tab_title(session.spec.title),
                       websocket_origin=sorted(_local_hosts(port)), threaded=False)
     answer_local_hosts_only(server._http, port)
     server.start()

@@ -56,12 +56,34 @@ def _source(spec_or_path) -> Tuple[Path, str]:
         raise SpecError(path, "", f"cannot read the file: {exc.strerror}") from None
 
 
+def default_output_folder(spec_path) -> Path:
+    """Where an exploration writes unless told otherwise: ``<spec name>_explored/`` beside the
+    spec file (a folder of its own, so never the spec itself or the user's files beside it)."""
+    from diffsense.report.files import safe_name
+
+    spec_path = Path(spec_path)
+    return spec_path.parent / f"{safe_name(spec_path.stem)}_explored"
+
+
+class FileExists(ValueError):
+    """The file or report folder asked for exists: the page asks before replacing it."""
+
+    def __init__(self, path: Path):
+        self.path = path
+        super().__init__(f"{path} exists")
+
+
 class ExplorerSession:
     """One exploration of the spec at ``spec_or_path`` (a TOML path or a loaded
-    :class:`~diffsense.design.spec.Spec` read from a file); see the module docstring."""
+    :class:`~diffsense.design.spec.Spec` read from a file); see the module docstring.
 
-    def __init__(self, spec_or_path):
+    Everything it writes goes into one folder, ``out_dir`` (default
+    :func:`default_output_folder`), fixed when it starts: a file is named by the user, made a
+    safe name (:func:`diffsense.report.files.safe_name`) and written there, never elsewhere."""
+
+    def __init__(self, spec_or_path, out_dir=None):
         self.path, text = _source(spec_or_path)
+        self.out_dir = Path(out_dir) if out_dir is not None else default_output_folder(self.path)
         self.document = spec_file.read_document(text)
         self.spec = spec_file.checked_spec(self.document, self.path)
         self.model = DesignModel(self.spec)
@@ -275,22 +297,35 @@ class ExplorerSession:
         initial = {n: (self.value(n), self.spec.variables[n].integer) for n in self.variable_names}
         return spec_file.write_point(self.document, initial=initial, options=self.options, fixed=self.typed)
 
-    def save(self, path) -> Path:
-        """Write the spec with the current point as its initial design; returns the path.
+    def target(self, name: str, suffix: str = "") -> Path:
+        """The path in :attr:`out_dir` of a file or folder the user named ``name`` (any text:
+        only its last component, made safe, is used; ``suffix`` added unless present)."""
+        from diffsense.report.files import safe_name
 
-        Never over the spec this exploration opened, and never over an existing file it did not
-        write itself (:class:`~diffsense.report.files.OutputError`); written atomically."""
+        base = str(name).replace("\\", "/").rsplit("/", 1)[-1].strip()
+        if suffix and base.endswith(suffix):
+            base = base[:-len(suffix)]
+        return self.out_dir / f"{safe_name(base or 'explored')}{suffix}"
+
+    def save(self, name, replace: bool = False) -> Path:
+        """Write the spec with the current point as its initial design to :meth:`target`
+        (``name``.toml in the output folder); returns the path.
+
+        An existing file raises :class:`FileExists` unless ``replace`` (the page asks the user
+        first); the spec this exploration opened is never written over, whatever ``replace``
+        (:class:`~diffsense.report.files.OutputError`); written atomically."""
         from diffsense.report.files import OutputError, write_atomically
 
-        path = Path(path)
+        path = self.target(name, ".toml")
         if self.path is not None and path.exists() and Path(self.path).exists() and path.samefile(self.path):
             raise OutputError(f"{path}: refusing to write over the spec this explorer opened; choose another name")
         if path.is_dir():
             raise OutputError(f"{path}: is a folder; give a file name")
-        if path.exists() and path.resolve() not in self.written:
-            raise OutputError(f"{path}: exists and was not written by this explorer; choose another name")
+        if path.exists() and not replace:
+            raise FileExists(path)
         doc = self.document_here()
         spec_file.checked_spec(doc, path)
+        path.parent.mkdir(parents=True, exist_ok=True)
         write_atomically(path, doc.as_string().encode("utf-8"))
         self.written.add(path.resolve())
         return path
@@ -316,19 +351,28 @@ class ExplorerSession:
             self.set_variable(name, float(value))
         return result
 
-    def report(self, out_dir) -> dict:
-        """Write the spec with the current point to ``out_dir`` and the static report of that
-        point (:func:`diffsense.build_report`, not optimised) beside it; returns its record."""
+    def report(self, name, replace: bool = False) -> dict:
+        """Write the static report of the current point (:func:`diffsense.build_report`, not
+        optimised) into the folder :meth:`target` ``name`` of the output folder, with the spec
+        of the point beside it; returns its record. A folder that exists raises
+        :class:`FileExists` unless ``replace`` (files diffsense did not write there are never
+        replaced: :class:`~diffsense.report.files.OutputError`)."""
         from diffsense.report import build_report
 
         from diffsense.report.build import report_folder
-        from diffsense.report.files import safe_name
+        from diffsense.report.files import safe_name, write_atomically
 
-        out_dir = Path(out_dir)
+        out_dir = self.target(name)
+        if out_dir.exists() and any(out_dir.iterdir()) and not replace:
+            raise FileExists(out_dir)
         spec_path = out_dir / f"{safe_name(self.spec.name)}.toml"  # the spec's name is data, not a path
         folder = report_folder(out_dir, spec_path)  # checked before anything is written
-        self.save(spec_path)
+        doc = self.document_here()
+        spec_file.checked_spec(doc, spec_path)
+        write_atomically(spec_path, doc.as_string().encode("utf-8"))
+        self.written.add(spec_path.resolve())
         return build_report(spec_path, folder, optimize=False)
 
 
-__all__ = ["ExplorerSession", "requirement_status", "ACTIVE_SLACK", "HEADLINE_OUTPUTS"]
+__all__ = ["ExplorerSession", "FileExists", "default_output_folder", "requirement_status", "ACTIVE_SLACK",
+           "HEADLINE_OUTPUTS"]

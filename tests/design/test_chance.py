@@ -71,7 +71,7 @@ def nominal_margin(model, x):
      "design variable"),
     ({"uncertain": {"rcs_mm": {"normal": 1, "sigma": 0.1}}}, "uncertain.rcs_mm", "did you mean 'rcs_m2'"),
     ({"uncertain": {"rcs_m2": {"lognormal": 1, "sigma_db": 3}, "check_samples": 1000}}, "uncertain.check_samples",
-     "at least 100000"),
+     "from 100000"),
     ({"uncertain": {"rcs_m2": {"lognormal": 1, "sigma_db": 3}, "samples": 128}},
      "requirements[0].probability", "samples = 400"),
 ])

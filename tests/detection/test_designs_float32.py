@@ -6,7 +6,8 @@ Each design runs in a child process started with ``DIFFSENSE_X64=0`` (the rest o
 keeps float64): 2000 points drawn with a fixed seed, uniform in each variable's box (in its
 logarithm for log-scaled variables, rounded for integer ones), for every catalog combination;
 the child evaluates the normalised requirement residuals and the objective with their
-gradients with respect to the design variables, and every output of every case.
+gradients with respect to the design variables, every output of every case, and at the first
+200 points every output's gradient.
 """
 
 import json
@@ -21,6 +22,8 @@ import pytest
 from helpers.paths import DESIGNS, REPO
 
 POINTS = 2000
+#: points (the first of the sample) where the gradient of every output is checked too
+GRADIENT_POINTS = 200
 SEED = 20240611
 DESIGN_FILES = sorted(DESIGNS.glob("*.toml"))
 # Known NaN outside the detection layer (float32 only): the blackbody band radiance forms its
@@ -61,6 +64,8 @@ def _child(path):
     objective = jax.jit(jax.vmap(model.objective, in_axes=(0, None)))
     grad = jax.jit(jax.vmap(jax.grad(model.objective), in_axes=(0, None)))
     values = jax.jit(jax.vmap(outputs, in_axes=(0, None)))
+    # every output's gradient with respect to the design variables, at the first GRADIENT_POINTS
+    output_gradients = jax.jit(jax.vmap(jax.jacfwd(outputs), in_axes=(0, None)))
     for k, row in enumerate(model.combo_table):
         theta = f32(model.solve_inputs(model.inputs(k), k, model.limits, 1.0))
         checks = {"residuals": residuals(x_all, theta), "residual_gradients": jac(x_all, theta)}
@@ -70,6 +75,10 @@ def _child(path):
         for case, vals in values(x_all, theta).items():
             for name, v in vals.items():
                 checks[f"{case}.{name}"] = v
+        for case, grads in output_gradients(x_all[:GRADIENT_POINTS], theta).items():
+            for name, g in grads.items():
+                checks[f"{case}.{name} gradient"] = jnp.concatenate(
+                    [g, jnp.full((POINTS - GRADIENT_POINTS,) + g.shape[1:], 0.0, g.dtype)])
         for name, arr in checks.items():
             arr = np.asarray(arr, dtype=float).reshape(POINTS, -1)
             rows = np.nonzero(~np.all(np.isfinite(arr), axis=1))[0]

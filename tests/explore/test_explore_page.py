@@ -23,7 +23,7 @@ import pytest
 from explore_browser import Browser, missing_browser
 from diffsense.design.spec import load_spec, parse_spec
 from diffsense.errors import SpecError
-from diffsense.explore.server import free_port
+from diffsense.explore.server import free_port, tab_title
 from diffsense.explore.session import ACTIVE_SLACK
 from helpers.paths import DESIGNS, REPO
 
@@ -33,17 +33,18 @@ SPEC = DESIGNS / "ore_pass.toml"
 
 
 class Server:
-    """``diffsense explore`` on a free port, started from ``cwd``."""
+    """``diffsense explore`` of ``spec`` on a free port, started from ``cwd``, writing to ``cwd/explored``."""
 
-    def __init__(self, cwd):
+    def __init__(self, cwd, spec=SPEC):
         self.port = free_port()
         self.url = f"http://127.0.0.1:{self.port}/"
         self.cwd = cwd
+        self.out = cwd / "explored"
         env = dict(os.environ, DIFFSENSE_CACHE_DIR=str(cwd / "xla-cache"))
         self.started = time.monotonic()
-        self.proc = subprocess.Popen([sys.executable, "-m", "diffsense", "explore", str(SPEC), "--port",
-                                      str(self.port), "--no-browser"], cwd=cwd, env=env, stdout=subprocess.PIPE,
-                                     stderr=subprocess.STDOUT, text=True)
+        self.proc = subprocess.Popen([sys.executable, "-m", "diffsense", "explore", str(spec), "--port",
+                                      str(self.port), "--no-browser", "--out", str(self.out)], cwd=cwd, env=env,
+                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         self.lines = []
         for line in self.proc.stdout:
             self.lines.append(line)
@@ -144,8 +145,21 @@ def test_page_matches_the_command_line_and_saves_a_spec_it_reads_back(server, br
     # save, read back, and compare with `diffsense evaluate --json` at the saved point
     b.one("button", "save as TOML").click()
     b.wait_until(lambda: b.all("[data-role=message][data-kind=ok]"), 30, "the saved message")
-    saved = cwd / "ore_pass_explored.toml"
+    saved = server.out / "ore_pass_explored.toml"
     spec = load_spec(saved)
+    # saving again asks first; "cancel" leaves the file, "replace" writes it
+    first, inode = saved.read_bytes(), saved.stat().st_ino
+    asked = lambda: b.all("b", saved.name)  # noqa: E731  (the file named in the question)
+    b.one("button", "save as TOML").click()
+    b.wait_until(asked, 30, "the question before replacing")
+    b.one("button", "cancel").click()
+    b.wait_until(lambda: not asked(), 30, "the question withdrawn")
+    assert saved.read_bytes() == first and saved.stat().st_ino == inode
+    b.one("button", "save as TOML").click()
+    b.wait_until(asked, 30, "the question before replacing")
+    b.one("button", "replace").click()
+    b.wait_until(lambda: not asked() and saved.stat().st_ino != inode, 30, "the file replaced (a new file renamed over it)")
+    assert saved.read_bytes() == first  # the same point written again
     assert spec.variables["antenna_diameter_m"].initial != pytest.approx(0.25)
     assert spec.choices["freq_hz"].option_names[0] == "94 GHz"
     record = json.loads(_evaluate(cwd, saved))
@@ -215,3 +229,28 @@ def test_the_server_answers_only_its_own_name(server):
     assert get(f"127.0.0.1:{port}", "/ws", {"Origin": "http://evil.example", **upgrade}) == 403
     assert get(f"localhost:{port}") == 200
     assert get(f"127.0.0.1:{port}") == 200
+
+
+def test_a_title_holding_markup_shows_as_text_and_never_runs(tmp_path, browser):
+    """Stored script injection: a spec whose title is an ``<img onerror>`` payload, served and
+    opened in Chromium: the page shows the payload's text, the DOM holds no such image and its
+    script never ran (it would set a flag and rename the tab)."""
+    payload = '<img src=x onerror="window.__owned=1;document.title=\'owned\'">'
+    text = (REPO / "tests" / "explore" / "specs" / "sonar_power.toml").read_text()
+    text = "\n".join(f"title = {json.dumps(payload)}" if line.startswith("title") else line
+                     for line in text.splitlines())
+    spec = tmp_path / "hostile.toml"
+    spec.write_text(text + "\n")
+    s = Server(tmp_path, spec)
+    try:
+        b = browser
+        b.driver.get(s.url)
+        b.wait_until(lambda: b.attributes("[data-role=headline-main]", "data-value"), 120, "the first numbers")
+        time.sleep(1.0)  # an injected image would have failed to load and run its handler by now
+        assert b.driver.execute_script("return window.__owned") is None
+        assert b.driver.title == tab_title(payload)  # the text, neither markup nor entities
+        assert not b.all("img[src=x]") and not b.all("img[onerror]")
+        shown = b.all("h2", payload)
+        assert shown and payload in shown[0].get_attribute("textContent")
+    finally:
+        s.kill()

@@ -9,6 +9,7 @@ from diffsense.design.record import design_record
 from diffsense.design.spec import load_spec
 from diffsense.errors import SpecError
 from diffsense.explore.session import ACTIVE_SLACK, ExplorerSession, requirement_status
+from diffsense.report.files import safe_name
 from helpers.paths import DESIGNS
 
 SPECS = Path(__file__).parent / "specs"
@@ -31,7 +32,8 @@ def test_saved_point_reads_back_and_evaluates_as_shown(session, tmp_path):
     s.set_variable("antenna_diameter_m", 0.3)
     s.set_variable("n_pulses", 20.4)
     snap = s.snapshot()
-    spec = load_spec(s.save(tmp_path / "here.toml"))
+    s.out_dir = tmp_path
+    spec = load_spec(s.save("here"))
     assert spec.variables["antenna_diameter_m"].initial == 0.3 and spec.variables["n_pulses"].initial == 20
     assert spec.choices["freq_hz"].option_names[0] == "94 GHz"
     again = ExplorerSession(tmp_path / "here.toml")
@@ -106,7 +108,8 @@ def test_report_of_the_current_point(sonar, tmp_path):
     s = sonar.fork()
     s.set_variable("electrical_power_w", 2000.0)
     snap = s.snapshot()
-    record = s.report(tmp_path / "report")
+    s.out_dir = tmp_path
+    record = s.report("report")
     written = load_spec(tmp_path / "report" / "sonar_power.toml")
     assert written.variables["electrical_power_w"].initial == 2000.0
     assert record["mode"] == "initial_design"
@@ -138,25 +141,34 @@ def test_the_page_shows_spec_strings_as_text(tmp_path):
     assert any("&lt;img src=x onerror=&quot;document.title=&#x27;owned&#x27;&quot;&gt;" in h for h in html)
 
 
-def test_saving_never_replaces_the_spec_or_a_file_it_did_not_write(sonar, tmp_path):
+def test_files_go_only_into_the_output_folder_and_replace_only_when_confirmed(sonar, tmp_path):
+    from diffsense.explore.session import FileExists, default_output_folder
     from diffsense.report.files import OutputError
 
+    assert default_output_folder(tmp_path / "a" / "my spec.toml") == tmp_path / "a" / f"{safe_name('my spec')}_explored"
     s = sonar.fork()
     opened = Path(s.path)
     before = opened.read_bytes()
+    s.out_dir = opened.parent  # even an output folder holding the spec: never written over
     with pytest.raises(OutputError, match="spec this explorer opened"):
-        s.save(opened)
+        s.save(opened.name, replace=True)
     assert opened.read_bytes() == before
-    mine = tmp_path / "mine.toml"
+    s.out_dir = tmp_path / "out"
+    for name in ("../../escaped", "/etc/passwd", "~/x", "a\\..\\b"):  # a name, never a path
+        path = s.save(name)
+        assert path.parent == tmp_path / "out" and path.suffix == ".toml", path
+    assert not (tmp_path / "escaped.toml").exists() and sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+    mine = tmp_path / "out" / "mine.toml"
     mine.write_text("# my notes\n")
-    with pytest.raises(OutputError, match="not written by this explorer"):
-        s.save(mine)
+    with pytest.raises(FileExists):
+        s.save("mine")
     assert mine.read_text() == "# my notes\n"
-    target = tmp_path / "here.toml"
-    s.save(target)
     s.set_variable("electrical_power_w", 1500.0)
-    s.save(target)  # its own file: replaced
-    assert load_spec(target).variables["electrical_power_w"].initial == 1500.0
+    s.save("mine", replace=True)  # the user confirmed on the page
+    assert load_spec(mine).variables["electrical_power_w"].initial == 1500.0
+    s.report("report")
+    with pytest.raises(FileExists):
+        s.report("report")
 
 
 def test_a_report_of_a_spec_named_like_a_path_stays_in_its_folder(tmp_path):
@@ -167,8 +179,9 @@ def test_a_report_of_a_spec_named_like_a_path_stays_in_its_folder(tmp_path):
     spec.parent.mkdir(parents=True)
     spec.write_text(text)
     s = ExplorerSession(spec)
-    out = tmp_path / "a" / "b" / "report"
-    s.report(out)
+    assert s.out_dir == tmp_path / "a" / "b" / "spec_explored"
+    s.report("report")
+    out = s.out_dir / "report"
     assert not list(tmp_path.rglob("escaped.toml"))
     assert [p.name for p in out.glob("*.toml")] == ["escaped-" + p.name.split("-")[-1] for p in out.glob("*.toml")]
     assert json.loads((out / "report.json").read_text())["written_by"] == "diffsense"

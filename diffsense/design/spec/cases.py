@@ -17,6 +17,8 @@ sections can check names and units against them.
 
 from __future__ import annotations
 
+import re
+
 from dataclasses import dataclass
 from typing import Dict, Mapping, Set
 
@@ -54,6 +56,9 @@ class Cases:
                 return table[name]
         raise unknown_parameter(file, key, name, self.base_scene, self.all_parameters)
 
+
+#: a case name: it prefixes output names ("<case>.<output>") and appears in tables and file names
+CASE_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_-]{0,39}")
 
 def read_sensor(file, raw: Mapping) -> str:
     """The ``sensor`` key: a known chain kind (:func:`diffsense.scene.sensor_kinds`)."""
@@ -120,6 +125,9 @@ def read_cases(file, raw: Mapping, sensor: str) -> Cases:
     scenes: Dict[str, Scene] = {}
     overrides: Dict[str, Dict] = {}
     for cname, ctable in cases_raw.items():
+        if not CASE_NAME.fullmatch(cname):
+            raise SpecError(file, f"cases.{key_text(cname)}", "a case name is 1-40 letters, digits, '_' or '-', "
+                            "starting with a letter (it prefixes output names: '<case>.<output>')")
         if not isinstance(ctable, dict):
             raise SpecError(file, f"cases.{cname}", "must be a table")
         extra = check_parts(file, f"cases.{cname}.parts", sensor, ctable.get("parts", []))

@@ -15,8 +15,8 @@ from __future__ import annotations
 from typing import Dict, Mapping, Set, Tuple
 
 from diffsense.design.spec.cases import Cases
-from diffsense.design.spec.common import (echo, finite_number, key_text, optional_table, parameter_value,
-                                          reject_unknown)
+from diffsense.design.spec.common import (key_text, optional_table, parameter_value, plain_text, reject_unknown,
+                                          weight_number)
 from diffsense.design.spec.types import Choice, Variable
 from diffsense.errors import SpecError
 
@@ -26,6 +26,7 @@ def read_choices(file, raw: Mapping, cases: Cases, taken) -> Dict[str, Choice]:
     choices: Dict[str, Choice] = {}
     for cname, ct in optional_table(file, raw, "choices", "must be a table of named catalogs").items():
         key = f"choices.{key_text(cname)}"
+        plain_text(file, key, cname)
         if cname in taken:
             raise SpecError(file, key, "name already used by a variable")
         if not isinstance(ct, dict) or "options" not in ct:
@@ -49,10 +50,8 @@ def read_choices(file, raw: Mapping, cases: Cases, taken) -> Dict[str, Choice]:
 
 def _option(file, okey: str, i: int, option: Mapping, cases: Cases) -> Tuple[str, float, Dict[str, float]]:
     """``(name, cost, parameter -> value)`` of one catalog option."""
-    name = option.get("name", f"option {i}")
-    if not isinstance(name, str):
-        raise SpecError(file, f"{okey}.name", f"must be a string; got {echo(name)}")
-    cost = finite_number(file, f"{okey}.cost", option.get("cost", 0.0), "a finite cost")
+    name = plain_text(file, f"{okey}.name", option.get("name", f"option {i}"))
+    cost = weight_number(file, f"{okey}.cost", option.get("cost", 0.0), "a finite cost", zero_allowed=True)
     setting = {}
     for pname, pval in option.items():
         if pname in ("name", "cost", "doc"):

@@ -164,6 +164,64 @@ def finite_number(file, key: str, value, what: str = "a number") -> float:
     return float(value)
 
 
+def whole_number(file, key: str, value, lo: int, hi: int) -> int:
+    """``value`` as an int: a whole number (an int, or a float with no fraction) from ``lo`` to
+    ``hi``; raise naming the range and echoing the value as written otherwise.
+
+    >>> whole_number("s.toml", "trade.points", 12.0, 2, 200)
+    12
+    >>> whole_number("s.toml", "trade.points", 1e7, 2, 200)
+    Traceback (most recent call last):
+    ...
+    diffsense.errors.SpecError: s.toml: key 'trade.points': must be a whole number from 2 to 200; got 1e+07
+    """
+    if not is_number(value) or not math.isfinite(value) or int(value) != value or not lo <= value <= hi:
+        raise SpecError(file, key, f"must be a whole number from {lo} to {hi}; got {echo(value)}")
+    return int(value)
+
+
+#: characters allowed in a name besides printable ones: none (``description`` also takes newlines and tabs)
+MULTILINE_CONTROLS = "\n\t\r"
+
+
+def plain_text(file, key: str, value, multiline: bool = False) -> str:
+    """``value`` as a string of printable characters: a name, title or label of the spec shown in
+    tables, reports and the explorer. Control and format characters (escape sequences, NUL,
+    bidirectional overrides, …) are refused; ``multiline`` allows newlines and tabs.
+
+    >>> plain_text("s.toml", "title", "Ore pass")
+    'Ore pass'
+    >>> plain_text("s.toml", "title", "a\x1b[2Jb")
+    Traceback (most recent call last):
+    ...
+    diffsense.errors.SpecError: s.toml: key 'title': contains a control character (U+001B); write plain text
+    """
+    if not isinstance(value, str):
+        raise SpecError(file, key, f"must be a string; got {echo(value)}")
+    allowed = MULTILINE_CONTROLS if multiline else ""
+    for ch in value:
+        if not ch.isprintable() and ch not in allowed:
+            raise SpecError(file, key, f"contains a control character (U+{ord(ch):04X}); write plain text")
+    return value
+
+
+#: the largest magnitude of an objective weight or a catalog cost: sums and products of such
+#: terms with the chain's values (up to ~1e30) stay far from float64's overflow at 1.8e308
+MAX_WEIGHT = 1e100
+
+
+def weight_number(file, key: str, value, what: str = "a finite weight", zero_allowed: bool = False) -> float:
+    """An objective weight or a catalog cost: a finite number of magnitude at most
+    :data:`MAX_WEIGHT` (a cost may be 0, a weight not: a zero weight leaves its term out)."""
+    out = finite_number(file, key, value, what)
+    if abs(out) > MAX_WEIGHT:
+        raise SpecError(file, key, f"{echo(value)} is too large: {what} must be at most {MAX_WEIGHT:g} in magnitude "
+                        "(rescale the terms; only ratios of weights matter)")
+    if not zero_allowed and out == 0:
+        raise SpecError(file, key, "a weight of 0 leaves the term out; remove the term")
+    return out
+
+
 def optional_table(file, raw: Mapping, key: str, problem: str = "must be a table") -> dict:
     """The table ``raw[key]`` (empty when absent or empty); raise ``problem`` if it is no table."""
     table = raw.get(key, {}) or {}

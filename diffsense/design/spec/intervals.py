@@ -21,7 +21,7 @@ from __future__ import annotations
 from typing import Mapping, Optional, Tuple
 
 from diffsense.design.spec.cases import Cases
-from diffsense.design.spec.common import closest, is_number, parameter_value, reject_unknown
+from diffsense.design.spec.common import closest, key_text, parameter_value, reject_unknown, whole_number
 from diffsense.design.spec.types import Interval
 from diffsense.errors import SpecError
 
@@ -47,11 +47,14 @@ def read_over(file, key: str, r: Mapping, case: str, cases: Cases, design_names)
     table = cases.parameters[case]
     intervals = []
     for name, value in over.items():
-        k = f"{key}.over.{name}"
+        k = f"{key}.over.{key_text(name)}"
         if name not in table:
-            raise SpecError(file, k, f"unknown parameter '{name}' of case '{case}'{closest(name, table)}")
+            raise SpecError(file, k, f"unknown parameter of case '{case}'{closest(name, table)}")
         if name in design_names:
             raise SpecError(file, k, f"'{name}' is a design variable or catalog setting; 'over' takes a fixed parameter")
+        if table[name].integer:
+            raise SpecError(file, k, f"'{name}' counts something (a whole number); 'over' takes a continuous "
+                            "parameter (write one requirement per count, in a case each)")
         intervals.append(_interval(file, k, table[name], value))
     points = _count(file, f"{key}.over_points", r.get("over_points"), 3, 4097)
     worst = _count(file, f"{key}.over_worst", r.get("over_worst"), 1, 16)
@@ -84,6 +87,4 @@ def _interval(file, key: str, prm, value) -> Interval:
 def _count(file, key: str, value, lo: int, hi: int) -> Optional[int]:
     if value is None:
         return None
-    if not is_number(value) or int(value) != value or not lo <= value <= hi:
-        raise SpecError(file, key, f"must be a whole number from {lo} to {hi}")
-    return int(value)
+    return whole_number(file, key, value, lo, hi)

@@ -13,7 +13,7 @@ from __future__ import annotations
 from typing import List, Mapping, Tuple
 
 from diffsense.design.spec.cases import Cases
-from diffsense.design.spec.common import closest, echo, finite_number, key_text, reject_unknown, split_case
+from diffsense.design.spec.common import closest, echo, key_text, reject_unknown, split_case, weight_number
 from diffsense.design.spec.types import Objective
 from diffsense.errors import SpecError
 from diffsense.scene import describe_command
@@ -61,6 +61,6 @@ def _terms(file, sense: str, obj) -> List[Tuple[str, float]]:
     if isinstance(obj, dict) and obj:
         terms = []
         for k, w in obj.items():
-            terms.append((k, finite_number(file, f"objective.{sense}.{key_text(k)}", w, "a finite weight")))
+            terms.append((k, weight_number(file, f"objective.{sense}.{key_text(k)}", w)))
         return terms
     raise SpecError(file, f"objective.{sense}", f"must be a name or a table of name = weight; got {echo(obj)}")

@@ -21,11 +21,12 @@ from typing import Mapping
 
 from diffsense.design.spec.cases import read_cases, read_sensor
 from diffsense.design.spec.choices import design_parameters, read_choices
-from diffsense.design.spec.common import clean_message, reject_unknown
+from diffsense.design.spec.common import clean_message, plain_text, reject_unknown
 from diffsense.design.spec.fixed import read_fixed
 from diffsense.design.spec.objective import read_objective
 from diffsense.design.spec.requirements import read_requirements
-from diffsense.design.spec.trade import read_trade
+from diffsense.design.spec.limits import check_counts, check_work
+from diffsense.design.spec.trade import check_trade, read_trade
 from diffsense.design.spec.types import Spec
 from diffsense.design.spec.uncertain import check_probabilities, nominal_values, read_uncertain
 from diffsense.design.spec.variables import read_variables
@@ -94,9 +95,15 @@ def parse_spec(raw: Mapping, path="<spec>") -> Spec:
     requirements = read_requirements(file, raw, cases, set(chosen))
     check_probabilities(file, requirements, uncertain, cases)
     objective = read_objective(file, raw, cases)
-    name = raw.get("name", Path(str(path)).stem)
-    return Spec(Path(str(path)), str(name), str(raw.get("title", name)), str(raw.get("description", "")),
+    name = plain_text(file, "name", raw.get("name", Path(str(path)).stem))
+    title = plain_text(file, "title", raw.get("title", name))
+    description = plain_text(file, "description", raw.get("description", ""), multiline=True)
+    spec = Spec(Path(str(path)), name, title, description,
                 sensor, cases.scenes, fixed, variables, choices, requirements, objective,
                 cases.parameters, cases.outputs, trade=read_trade(file, raw, cases, chosen),
                 uncertain=uncertain,
                 case_overrides={c: frozenset(o) for c, o in cases.overrides.items()})
+    check_trade(file, spec)
+    check_counts(file, spec)
+    check_work(file, spec)
+    return spec

@@ -14,7 +14,7 @@ from typing import List, Mapping
 
 from diffsense.design.spec.cases import Cases
 from diffsense.design.spec.intervals import OVER_KEYS, read_over
-from diffsense.design.spec.common import closest, echo, quantity, reject_unknown, split_case
+from diffsense.design.spec.common import closest, echo, plain_text, quantity, reject_unknown, split_case
 from diffsense.design.spec.types import SENSES, Requirement
 from diffsense.design.spec.uncertain import read_probability
 from diffsense.errors import SpecError
@@ -48,7 +48,7 @@ def _requirement(file, key: str, r: Mapping, cases: Cases, design_names=frozense
         raise SpecError(file, key, f"needs exactly one of {list(SENSES)}")
     unit = outputs[out].unit
     limit = quantity(file, f"{key}.{senses[0]}", r[senses[0]], unit)
-    label = r.get("name", r["output"])
+    label = plain_text(file, f"{key}.name", r["name"]) if "name" in r else r["output"]
     over, points, worst = read_over(file, key, r, case, cases, design_names)
     probability = read_probability(file, key, r)
-    return Requirement(str(label), case, out, senses[0], limit, unit, over, points, worst, probability)
+    return Requirement(label, case, out, senses[0], limit, unit, over, points, worst, probability)

@@ -5,9 +5,9 @@ by a distribution, and requirements met with a stated probability over them::
     rcs_m2 = { lognormal = "1 m^2", sigma_db = 3 }             # median, spread of 10 log10 σ in dB
     rain_rate_mm_h = { uniform = ["0 mm/h", "25 mm/h"] }        # ends of the interval
     noise_figure_db = { normal = "5 dB", sigma = "0.5 dB" }     # mean and standard deviation
-    samples = 4096            # optional: design sample size (scrambled Sobol points)
+    samples = 4096            # optional: design sample size (scrambled Sobol points, 64 to 65536)
     seed = 0                  # optional: seed of the design sample
-    check_samples = 100000    # optional: size of the independent Monte Carlo check (>= 100000)
+    check_samples = 100000    # optional: size of the independent Monte Carlo check (100000 to 10^7)
     confidence = 0.99         # optional: confidence level of the check's interval
 
     [[requirements]]
@@ -40,7 +40,8 @@ from dataclasses import dataclass
 from typing import Mapping, Optional, Tuple
 
 from diffsense.design.spec.cases import Cases
-from diffsense.design.spec.common import closest, is_number, quantity, reject_unknown
+from diffsense.design.spec.common import closest, echo, is_number, quantity, reject_unknown, whole_number
+from diffsense.design.spec.limits import MAX_CHECK_SAMPLES, MAX_SAMPLES
 from diffsense.design.units import split_quantity, to_unit
 from diffsense.errors import DomainError, SpecError, UnitError
 from diffsense.numerics.checks import check_range
@@ -77,9 +78,9 @@ class Distribution:
         """The smallest and largest value drawn (±6 standard deviations, or the interval)."""
         if self.kind == "normal":
             return self.nominal - TRUNCATE_SIGMAS * self.spread, self.nominal + TRUNCATE_SIGMAS * self.spread
-        if self.kind == "lognormal":
-            return self.nominal * math.exp(-TRUNCATE_SIGMAS * self.spread), \
-                self.nominal * math.exp(TRUNCATE_SIGMAS * self.spread)
+        if self.kind == "lognormal":  # exp saturates to 0 and inf rather than overflow
+            reach = min(TRUNCATE_SIGMAS * self.spread, 1000.0)
+            return self.nominal * math.exp(-reach), self.nominal * math.exp(reach) if reach < 709.0 else math.inf
         return self.nominal - 0.5 * self.spread, self.nominal + 0.5 * self.spread
 
 
@@ -113,32 +114,33 @@ def read_uncertain(file, raw: Mapping, cases: Cases, chosen) -> Optional[Uncerta
             settings[name] = _setting(file, key, name, value)
             continue
         if name not in cases.all_parameters:
-            raise SpecError(file, key, f"unknown parameter '{name}'{closest(name, cases.all_parameters)}; "
+            raise SpecError(file, key, f"unknown parameter {echo(name, 60)}{closest(name, cases.all_parameters)}; "
                             f"[uncertain] takes fixed parameters and the settings {sorted(SETTINGS)}")
         if name in chosen:
             raise SpecError(file, key, f"'{name}' is a design variable or catalog setting; it cannot be uncertain")
+        prm = cases.param_of(file, name, key)
+        if prm.integer:
+            raise SpecError(file, key, f"'{name}' counts something (a whole number); a distribution needs a "
+                            "continuous parameter")
         for where, values in [("fixed", raw.get("fixed") or {})] + \
                 [(f"cases.{c}", o) for c, o in cases.overrides.items()]:
             if isinstance(values, dict) and name in values:
                 raise SpecError(file, f"{where}.{name}", f"'{name}' is uncertain: remove it here (its nominal "
                                 "value, the median of its distribution, is used where a fixed value is needed)")
-        dists.append(_distribution(file, key, cases.param_of(file, name, key), value))
+        dists.append(_distribution(file, key, prm, value))
     if not dists:
         raise SpecError(file, "uncertain", "names no uncertain parameter")
-    if settings["check_samples"] < MIN_CHECK_SAMPLES:
-        raise SpecError(file, "uncertain.check_samples", f"must be at least {MIN_CHECK_SAMPLES}")
     return Uncertainty(tuple(dists), **settings)
 
 
 def _setting(file, key: str, name: str, value):
     if name == "confidence":
         if not is_number(value) or not 0.5 <= value < 1.0:
-            raise SpecError(file, key, "must be a number from 0.5 to below 1, e.g. 0.95")
+            raise SpecError(file, key, f"must be a number from 0.5 to below 1, e.g. 0.95; got {echo(value)}")
         return float(value)
-    lo, hi = {"samples": (64, 1 << 20), "seed": (0, 2**31 - 1), "check_samples": (1, 10**8)}[name]
-    if not is_number(value) or int(value) != value or not lo <= value <= hi:
-        raise SpecError(file, key, f"must be a whole number from {lo} to {hi}")
-    return int(value)
+    lo, hi = {"samples": (64, MAX_SAMPLES), "seed": (0, 2**31 - 1),
+              "check_samples": (MIN_CHECK_SAMPLES, MAX_CHECK_SAMPLES)}[name]
+    return whole_number(file, key, value, lo, hi)
 
 
 def _distribution(file, key: str, prm, value) -> Distribution:
@@ -211,7 +213,7 @@ def read_probability(file, key: str, r: Mapping) -> Optional[float]:
     if p is None:
         return None
     if not is_number(p) or not 0.0 < p < 1.0:
-        raise SpecError(file, f"{key}.probability", f"must be a number between 0 and 1 (exclusive); got {p!r}")
+        raise SpecError(file, f"{key}.probability", f"must be a number between 0 and 1 (exclusive); got {echo(p)}")
     if "equals" in r:
         raise SpecError(file, f"{key}.probability", "an equality holds with probability 0; use at_least or at_most")
     if "over" in r:

@@ -26,8 +26,8 @@ import math
 from typing import Dict, Mapping, Tuple
 
 from diffsense.design.spec.cases import Cases
-from diffsense.design.spec.common import (check_domain, echo, finite_number, key_text, optional_table,
-                                          parameter_value, quantity, reject_unknown)
+from diffsense.design.spec.common import (check_domain, echo, key_text, optional_table, parameter_value, quantity,
+                                          reject_unknown, weight_number)
 from diffsense.design.spec.types import Choice, Variable
 from diffsense.errors import SpecError
 from diffsense.scene import number_text
@@ -78,7 +78,7 @@ def _catalog_variable(file, key: str, name: str, vt: Mapping, prm: Param) -> Cho
     costs = vt.get("costs", [0.0] * len(vals))
     if not isinstance(costs, list) or len(costs) != len(vals):
         raise SpecError(file, f"{key}.costs", f"must be a list of {len(vals)} numbers, one per choice")
-    costs = [finite_number(file, f"{key}.costs[{i}]", c, "a finite cost") for i, c in enumerate(costs)]
+    costs = [weight_number(file, f"{key}.costs[{i}]", c, "a finite cost", zero_allowed=True) for i, c in enumerate(costs)]
     return Choice(name, tuple(str(o) for o in opts), tuple({name: v} for v in vals), tuple(costs))
 
 

@@ -31,6 +31,8 @@ noise bandwidth, which completes the SNR of a pulse: SNR_peak = SNR(B) × respon
 
 from __future__ import annotations
 
+import math
+
 import jax.numpy as jnp
 
 from diffsense.numerics.checks import check_choice, check_range
@@ -54,6 +56,9 @@ _Q = ELEMENTARY_CHARGE_C
 _K = BOLTZMANN_J_K
 _HC = PLANCK_J_S * SPEED_OF_LIGHT_M_S
 
+
+#: below this log x² the cubic's root is taken from its series (x < 1e-4)
+_LOG_SERIES_X2 = math.log(1e-8)
 
 def _f(x):
     return jnp.asarray(x, dtype=jnp.result_type(float, x))
@@ -322,7 +327,8 @@ def optimum_apd_gain(primary_current_a, ionization_ratio, temperature_k, load_re
     _pos("load_resistance_ohm", load_resistance_ohm, w)
     check_range("amplifier_noise_a_rthz", amplifier_noise_a_rthz, 0.0, None, where=w)
     n_th = 4.0 * _K * _f(temperature_k) / _f(load_resistance_ohm) + _f(amplifier_noise_a_rthz) ** 2
-    c = n_th / (_Q * _f(primary_current_a))
+    # (N_th/q)/I_p, not N_th/(q I_p): the quotient rule's (q I_p)² ~ 1e-56 A² underflows float32
+    c = (n_th / _Q) / _f(primary_current_a)
     k = _f(ionization_ratio)
     return _cubic_root(c, k)
 
@@ -335,24 +341,29 @@ def _cubic_root(c, k):
     overflow: x < 1e-4: M = c/(1−k) (1 − 4x²/27) (series of the next form; error O(x⁴));
     x < 1: M = c/(1−k) · 3 sinh(asinh(x)/3)/x (trigonometric-hyperbolic solution);
     x ≥ 1 or k = 1: Cardano, M = u − p/(3u), u³ = (Q/2)(1 + sqrt(1 + 1/x²)).
+    The branch is chosen by log x² (x² itself overflows float32 for c ≳ 1e19), and x and 1/x²
+    are formed from it only where their branch is taken (double ``where``), so values and
+    derivatives stay finite in float32 and at k = 0.
     """
     below_one = k < 1.0
-    k_c = jnp.where(below_one, k, 0.5)
-    x2 = 6.75 * c * c * k_c / (1.0 - k_c) ** 3
-    cardano = (~below_one) | (x2 >= 1.0)
-    series = (~cardano) & (x2 < 1e-8)
-    # x = sqrt(x2) only where a branch uses it: at k = 0 (x2 = 0, the series) the square root's
-    # infinite derivative would turn the discarded branches' zero cotangents into NaN
-    x = jnp.sqrt(jnp.where(series, 1.0, x2))
-    linear = c / (1.0 - k_c)
+    inner = below_one & (k > 0.0)
+    k_c = jnp.where(inner, k, 0.5)
+    log_x2 = math.log(6.75) + 2.0 * jnp.log(jnp.where(c > 0.0, c, 1.0)) + jnp.log(k_c) - 3.0 * jnp.log1p(-k_c)
+    cardano = (~below_one) | (inner & (log_x2 >= 0.0))
+    series = below_one & ((~inner) | (log_x2 < _LOG_SERIES_X2))
+    hyper = ~(cardano | series)
+    # the series from x² itself (below 1e-8 there): its k-derivative stays exact at k = 0
+    k_s = jnp.where(series, k, 0.0)
+    c_s = jnp.where(series, c, 0.0)
+    x2 = 6.75 * c_s * c_s * k_s / (1.0 - k_s) ** 3
+    linear = c / (1.0 - jnp.where(below_one, k, 0.5))
     m_series = linear * (1.0 - (4.0 / 27.0) * x2)
-    x_h = jnp.where(cardano | series, 0.5, x)
+    x_h = jnp.exp(0.5 * jnp.where(hyper, log_x2, math.log(0.25)))
     m_hyper = linear * 3.0 * jnp.sinh(jnp.arcsinh(x_h) / 3.0) / x_h
     k_k = jnp.where(cardano, k, 1.0)
-    x_k = jnp.where(cardano & below_one, x, 1.0)
     p = (1.0 - k_k) / k_k
     q = c / k_k
-    inv_x2 = jnp.where(below_one, 1.0 / (x_k * x_k), 0.0)
+    inv_x2 = jnp.where(cardano & inner, jnp.exp(-jnp.where(cardano & inner, log_x2, 0.0)), 0.0)
     u = jnp.cbrt(0.5 * q * (1.0 + jnp.sqrt(1.0 + inv_x2)))
     m_cardano = u - p / (3.0 * u)
     return jnp.where(cardano, m_cardano, jnp.where(series, m_series, m_hyper))

@@ -109,13 +109,20 @@ class Programs:
 
     def evaluation(self) -> Program:
         """``fn(V (k, n), T (k, n), inputs (k, …)) -> (values, tangents)``: the model's
-        :meth:`~diffsense.design.model.DesignModel.evaluation` and its derivative along each row
-        of ``T``, k = :data:`EVAL_ROWS`."""
+        :meth:`~diffsense.design.model.DesignModel.evaluation` (every output of every case) and
+        the derivative of its requirement values and objective along each row of ``T``, k =
+        :data:`EVAL_ROWS`. The evaluations' own tangents are zeros: the report differentiates
+        only the requirements and the objective, so the tangents of the other outputs are dead
+        code that XLA removes before optimising (a smaller program to compile)."""
         model = self.model
 
         def build():
+            def differentiated(vv, inputs):
+                evaluations, rows, req, obj = model.evaluation(vv, inputs)
+                return jax.lax.stop_gradient(evaluations), jax.lax.stop_gradient(rows), req, obj
+
             def one(v, t, inputs):
-                return jax.jvp(lambda vv: model.evaluation(vv, inputs), (v,), (t,))
+                return jax.jvp(lambda vv: differentiated(vv, inputs), (v,), (t,))
 
             fn = over_rows(one)
             V = np.zeros((EVAL_ROWS, len(model.layout)))

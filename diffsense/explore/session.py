@@ -339,8 +339,10 @@ class ExplorerSession:
         ``n_starts`` − 1 Latin-hypercube starts follow) with the current fixed values, then move
         the point to the optimum. Returns the :class:`~diffsense.design.optimizer.DesignOptimum`."""
         from diffsense.design.optimizer import optimize_design
+        from diffsense.design.spec.limits import require_variables
 
         spec = self.spec_here()
+        require_variables(spec)  # a SpecError the page shows: nothing to optimise
         model = DesignModel(spec)
         result = optimize_design(model, n_starts=n_starts, seed=seed)
         chosen = model.combinations[result.combo_index].options

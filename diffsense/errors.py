@@ -26,6 +26,17 @@ MAX_MESSAGE = 393
 MAX_FILE, MAX_KEY = 160, 72
 
 
+def escaped(text, keep: str = "") -> str:
+    r"""``text`` with every control or format character shown as its Python escape (``\x1b``,
+    ``\u202e``) except those in ``keep``: what a terminal, a table or a message shows is never
+    an escape sequence.
+
+    >>> escaped("a\x1b[2Jb"), escaped("a\nb", keep="\n")
+    ('a\\x1b[2Jb', 'a\nb')
+    """
+    return "".join(ch if ch.isprintable() or ch in keep else ch.encode("unicode_escape").decode() for ch in str(text))
+
+
 def one_line(text, limit: int, keep_end: bool = False) -> str:
     """``text`` on one line with every control or format character escaped (``\\x1b``), at most
     ``limit`` characters: cut with "…" (at the start when ``keep_end``, as for a file path whose
@@ -36,7 +47,7 @@ def one_line(text, limit: int, keep_end: bool = False) -> str:
     >>> one_line("/very/long/folder/spec.toml", 14, keep_end=True)
     '…der/spec.toml'
     """
-    s = "".join(ch if ch.isprintable() else ch.encode("unicode_escape").decode() for ch in str(text))
+    s = escaped(text)
     if len(s) <= limit:
         return s
     return "…" + s[len(s) - limit + 1:] if keep_end else s[:limit - 1] + "…"

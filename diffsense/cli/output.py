@@ -18,6 +18,8 @@ from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
+from diffsense.errors import escaped
+
 #: the longest piece of user text echoed in a message (characters)
 MAX_ECHO = 160
 #: the longest error line (characters): one message naming the file, the key and the problem
@@ -35,7 +37,7 @@ def clip(text: object, limit: int = MAX_ECHO) -> str:
     >>> clip("line1\\nline2")
     'line1\\\\nline2'
     """
-    s = "".join(ch if ch.isprintable() else ch.encode("unicode_escape").decode() for ch in str(text))
+    s = escaped(text)
     if len(s) <= limit:
         return s
     return f"{s[:limit - 3]}… ({len(s)} characters)"
@@ -48,7 +50,7 @@ def plain(text: object) -> str:
     >>> plain("a\x1b[2Jb")
     'a\\\\x1b[2Jb'
     """
-    return "".join(ch if ch.isprintable() or ch == "\n" else ch.encode("unicode_escape").decode() for ch in str(text))
+    return escaped(text, keep="\n")
 
 
 def fmt(value: float) -> str:

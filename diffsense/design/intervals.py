@@ -43,12 +43,11 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from diffsense.design.spec.limits import DENSE_POINTS  # the re-check's size, counted in the spec's work limit
 from diffsense.design.spec.types import Requirement
 from diffsense.optimize.semi_infinite import box, dense_points, worst_points_grouped
 from diffsense.scene import compute
 
-#: points of the dense re-check of a requirement over an interval or box
-DENSE_POINTS = 10_001
 #: points of the margin curve kept in a requirement's row (JSON, report figures)
 CURVE_POINTS = 1001
 #: slots of a requirement beyond its ``over_worst`` search points: worst points found earlier

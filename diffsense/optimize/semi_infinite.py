@@ -46,7 +46,7 @@ import numpy as np
 from jax import lax
 
 __all__ = ["Box", "box", "worst_points", "worst_points_shared", "worst_points_grouped", "worst_values", "dense_check",
-           "DenseCheck", "grid_points", "dense_points"]
+           "DenseCheck", "grid_points", "dense_points", "default_counts", "dense_size", "dense_per_axis"]
 
 
 class Box(NamedTuple):
@@ -89,6 +89,23 @@ class Box(NamedTuple):
         return (hi - lo) / np.maximum(np.asarray(self.counts) - 1, 1)
 
 
+def default_counts(d: int) -> tuple:
+    """Grid points per dimension of a box of ``d`` dimensions when none are given: 129 for one,
+    33 per dimension for two, 17 for three or more."""
+    return (129,) if d == 1 else (33,) * d if d == 2 else (17,) * d
+
+
+def dense_size(d: int, n_points: int) -> int:
+    """Points of :func:`dense_points`' grid of a box of ``d`` dimensions asked ``n_points``:
+    (⌈n^(1/d)⌉ + 1)^d."""
+    return dense_per_axis(d, n_points) ** d
+
+
+def dense_per_axis(d: int, n_points: int) -> int:
+    """Points per dimension of :func:`dense_points`' grid: ⌈n^(1/d)⌉ + 1."""
+    return int(np.ceil(n_points ** (1.0 / d))) + 1
+
+
 def box(lower: Sequence[float], upper: Sequence[float], *, counts=None, log=None) -> Box:
     """A :class:`Box` with default grids: 129 points for one dimension, 33 per dimension for two,
     17 for three or more; log spacing where the lower bound is positive and the box spans a factor
@@ -99,7 +116,7 @@ def box(lower: Sequence[float], upper: Sequence[float], *, counts=None, log=None
         raise ValueError(f"a box needs lower < upper in every dimension; got {lower} and {upper}")
     d = lower.size
     if counts is None:
-        counts = (129,) if d == 1 else (33,) * d if d == 2 else (17,) * d
+        counts = default_counts(d)
     counts = tuple(int(c) for c in np.broadcast_to(np.asarray(counts), (d,)))
     if any(c < 3 for c in counts):
         raise ValueError("a box grid needs at least 3 points per dimension")
@@ -395,7 +412,7 @@ def dense_points(lower, upper, log, n_points: int):
     ⌈n^(1/d)⌉ + 1 points, the inner ones shifted by a third of a cell against a uniform grid in u,
     ends included; (P, d) in p, C order. Traceable in the bounds."""
     d = int(np.shape(lower)[-1])
-    per = int(np.ceil(n_points ** (1.0 / d))) + 1
+    per = dense_per_axis(d, n_points)
     lo, hi = _u_bounds(lower, upper, log)
     t = np.linspace(0.0, 1.0, per)
     t_inner = np.concatenate([[0.0], np.clip(t[1:-1] + 1.0 / (per - 1) / 3.0, 0.0, 1.0), [1.0]])

@@ -12,7 +12,7 @@ import re
 from typing import Mapping, Optional
 
 from diffsense.design.units import to_unit
-from diffsense.errors import DomainError, SpecError, UnitError
+from diffsense.errors import DomainError, SpecError, UnitError, escaped
 from diffsense.numerics.checks import check_range
 from diffsense.scene import Scene, describe_command, domain_text, number_text, unknown_name_hint
 from diffsense.sensors.chain import Param
@@ -30,7 +30,7 @@ def one_line(text: str, limit: int = MAX_ECHO) -> str:
     >>> one_line("x" * 100, 20)
     'xxxxxxxxxxxxxxxxx… (100 characters)'
     """
-    text = "".join(ch if ch.isprintable() else ch.encode("unicode_escape").decode() for ch in str(text))
+    text = escaped(text)
     if len(text) <= limit:
         return text
     return f"{text[:limit - 3]}… ({len(text)} characters)"

@@ -37,6 +37,7 @@ import math
 from typing import NamedTuple
 
 from diffsense.errors import SpecError
+from diffsense.optimize.semi_infinite import default_counts, dense_size
 
 MAX_REQUIREMENTS = 256
 MAX_CATALOG_OPTIONS = 256
@@ -51,11 +52,9 @@ MAX_TRADE_SOLVES = 4096
 MAX_CHAIN_EVALUATIONS = 1_000_000
 #: the starts per catalog combination of ``diffsense optimize`` unless ``--starts`` says otherwise
 DEFAULT_STARTS = 8
-#: points of the dense re-check of one interval requirement (before rounding up to a grid)
+#: points of the dense re-check of one interval requirement (before rounding up to a grid;
+#: :mod:`diffsense.design.intervals` re-checks with this many)
 DENSE_POINTS = 10_001
-#: grid points per parameter of an ``over`` box without ``over_points``, by the box's dimension
-DEFAULT_GRID = {1: 129, 2: 33}
-DEFAULT_GRID_MORE = 17
 
 
 class Work(NamedTuple):
@@ -71,13 +70,7 @@ def grid_points(r) -> int:
     d = len(r.over)
     if not d:
         return 0
-    per = r.over_points or DEFAULT_GRID.get(d, DEFAULT_GRID_MORE)
-    return per ** d
-
-
-def dense_points(d: int) -> int:
-    """Points of the dense re-check grid of a box of ``d`` parameters."""
-    return (math.ceil(DENSE_POINTS ** (1.0 / d)) + 1) ** d
+    return math.prod(default_counts(d)) if r.over_points is None else r.over_points ** d
 
 
 def combinations(spec) -> int:
@@ -100,7 +93,7 @@ def work(spec, starts: int = DEFAULT_STARTS):
     else:
         key = "variables"
     lane = Work(lanes * per_lane, key, f"the solver ({lanes} lanes x {per_lane} evaluations)")
-    dense = sum(dense_points(len(r.over)) for _, r in interval)
+    dense = sum(dense_size(len(r.over), DENSE_POINTS) for _, r in interval)
     check = Work(dense, "requirements", f"the dense re-check of {len(interval)} interval requirements")
     return lane, check
 

@@ -142,6 +142,7 @@ def check_trade(file, spec) -> None:
                                 "free it: trade another parameter, or remove 'over'")
     free = set(spec.variables) | set(trade.variables) | {p for c in spec.choices.values() for p in c.settings[0]}
     has_costs = any(any(c != 0 for c in ch.costs) for ch in spec.choices.values())
+    outputs = set().union(*(spec.outputs[c] for c in spec.scenes))
     for i, o in enumerate(trade.objectives):
         key = f"trade.objectives[{i}]"
         names = [n for n, _ in o.terms]
@@ -149,7 +150,6 @@ def check_trade(file, spec) -> None:
             raise SpecError(file, key, "'cost' is the summed cost of the catalog options chosen, and no catalog of "
                             "this spec has a cost: it is 0 for every design")
         params = {n.split(".", 1)[-1] for n in names if n != "cost"}
-        outputs = set().union(*(spec.outputs[c] for c in spec.scenes))
         if not (params & outputs) and not (params & free) and not ("cost" in names and has_costs):
             raise SpecError(file, key, f"constant: {', '.join(sorted(params))} is fixed (not a design variable, "
                             "catalog or [trade.variables] parameter), so every design has the same value")

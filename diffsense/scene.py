@@ -43,7 +43,7 @@ from diffsense.sensors.sonar import SonarChain
 from diffsense.sensors.structure import Scene
 from diffsense.sensors.ultrasonic import UltrasonicChain
 
-__all__ = ["Scene", "CHAINS", "sensor_kinds", "chain_for", "complete_parameters", "evaluate", "evaluator", "describe",
+__all__ = ["Scene", "CHAINS", "sensor_kinds", "chain_for", "complete_parameters", "evaluate", "evaluator", "describe", "describe_kind",
            "parameter_table", "output_table", "number_text", "domain_text", "describe_command",
            "unknown_name_hint"]
 
@@ -221,6 +221,25 @@ def unknown_name_hint(scene: Scene, name: str) -> str:
     return ""
 
 
+def describe_kind(scene: Scene) -> dict:
+    """What a scene's sensor kind offers whatever its parts: the kind, its description, every
+    part it knows (with whether the scene holds it) and every static option (default, allowed
+    values, the value the scene sets) — the first keys of :func:`describe`, available for a scene
+    that holds too few parts to have parameters and outputs.
+
+    >>> sorted(describe_kind(Scene("sonar"))["parts"])[:2]
+    ['bottom_reverberation', 'receiver_noise']
+    """
+    chain = CHAINS[scene.sensor]
+    return {
+        "sensor": scene.sensor,
+        "description": chain.description,
+        "parts": {name: {"description": text, "in_scene": scene.has(name)} for name, text in chain.parts.items()},
+        "options": {name: {"default": default, "values": list(allowed), "value": scene.option(name, default)}
+                    for name, (default, allowed) in chain.options.items()},
+    }
+
+
 def describe(scene: Scene) -> dict:
     """What a scene takes and gives, as plain data: its sensor kind, every part the kind knows
     (with whether the scene holds it), every static option (default, allowed values, the value the
@@ -238,11 +257,7 @@ def describe(scene: Scene) -> dict:
     outputs = chain.outputs(scene)
 
     return {
-        "sensor": scene.sensor,
-        "description": chain.description,
-        "parts": {name: {"description": text, "in_scene": scene.has(name)} for name, text in chain.parts.items()},
-        "options": {name: {"default": default, "values": list(allowed), "value": scene.option(name, default)}
-                    for name, (default, allowed) in chain.options.items()},
+        **describe_kind(scene),
         "parameters": {name: {"unit": p.unit, "default": p.default, "domain": domain_text(p), "part": p.part,
                               "integer": p.integer, "doc": p.doc} for name, p in params.items()},
         "outputs": {name: {"unit": o.unit, "doc": o.doc} for name, o in outputs.items()},

@@ -3,7 +3,9 @@
 Every failure ends with one line ``error: …`` on standard error and an exit code: 2 for bad input
 (an invalid spec, a wrong option), 3 for a well-formed design that leaves a requirement unmet,
 1 for an internal error (its traceback is shown only with ``DIFFSENSE_DEBUG=1``), 130 when
-interrupted. No traceback otherwise.
+interrupted. No traceback otherwise. A report of a design that leaves a requirement unmet is a
+result, not a failure: ``diffsense report`` names each unmet requirement on standard output
+(``requirement … not met: value, limit, shortfall``) and exits 3 without an error line.
 """
 
 from __future__ import annotations

@@ -10,7 +10,7 @@ from typing import Optional
 import typer
 
 from diffsense.cli.output import EXIT_BAD_INPUT, EXIT_UNMET, Reporter, check_json_target, clip, refuse, write_json
-from diffsense.cli.records import print_record, unmet
+from diffsense.cli.records import print_record, print_unmet, unmet
 from diffsense.cli.state import reporter_from
 
 DESIGN_FILE = typer.Argument(..., help="Requirement spec (TOML), e.g. designs/ore_pass.toml.", show_default=False)
@@ -94,6 +94,31 @@ def evaluate(
     _fail_if_unmet(unmet(record), reporter)
 
 
+def print_findings(findings: dict, reporter: Reporter) -> None:
+    """What sets the design (:func:`diffsense.design.activity.design_findings`): one line, then
+    each warning."""
+    parts = ["active: " + ("; ".join(findings["active"]) or "none")]
+    if findings["bounds"]:
+        parts.append("on a bound: " + ", ".join(f"{n} ({side})" for n, side in findings["bounds"]))
+    if findings["choice"]:
+        parts.append("catalog: " + ", ".join(f"{k} = {v}" for k, v in findings["choice"].items()))
+    reporter.info("what sets the design: " + "; ".join(parts))
+    for w in findings["warnings"]:
+        reporter.warn("warning", w)
+
+
+def print_exact_check(check: dict, reporter: Reporter) -> bool:
+    """The exact re-evaluation of a fast-fidelity answer (:func:`diffsense.design.exact_check.exact_recheck`):
+    the options switched, then each requirement fast → exact; True when the exact models meet
+    every requirement."""
+    reporter.info("fidelity fast (" + ", ".join(f"{k} = {v}" for k, v in check["switched"].items())
+                  + "): the answer re-evaluated with the exact models")
+    for r in check["requirements"]:
+        reporter.info(f"  {r['name']}: {r['fast']:.6g} -> {r['exact']:.6g} {r['unit']} "
+                      f"(difference {r['difference']:+.3g}){'' if r['met'] else '; NOT MET'}")
+    return check["met"]
+
+
 def optimize(
     ctx: typer.Context,
     design_file: Path = DESIGN_FILE,
@@ -103,6 +128,8 @@ def optimize(
     force: bool = FORCE,
 ):
     """Optimise a spec: the best design meeting every requirement (exit 3 when none can)."""
+    from diffsense.design.activity import design_findings
+    from diffsense.design.exact_check import exact_recheck
     from diffsense.design.optimizer import optimize_design
     from diffsense.design.record import design_record
 
@@ -133,7 +160,20 @@ def optimize(
         c = result.canonical
         reporter.info(f"{c['rule']}: {c['flat_directions']} flat direction(s); smallest such slack "
                       f"{c['smallest_slack_before']:.4g} -> {c['smallest_slack_after']:.4g} (scaled)")
+    findings = design_findings(model, result.x, result.combo_index, record["requirements"], result.multipliers)
+    record["findings"] = findings
+    print_findings(findings, reporter)
+    exact_ok = True
+    if model.spec.fidelity_switched:
+        with reporter.step("re-evaluating with the exact models"):
+            check = exact_recheck(model, result.x, result.combo_index, record["requirements"])
+        record["exact_check"] = check
+        exact_ok = print_exact_check(check, reporter)
     write_json(record, json_out, reporter, [design_file], force)
+    if result.feasible and not exact_ok:
+        reporter.error("the fast models' answer misses a requirement under the exact models: optimise with "
+                       "fidelity = \"exact\"")
+        raise typer.Exit(code=EXIT_UNMET)
     if not result.feasible:
         reporter.error("infeasible: these requirements cannot be met together within the bounds: "
                        + "; ".join(result.unmet))
@@ -150,8 +190,9 @@ def report(
     force: bool = FORCE,
 ):
     """Write a design report: budgets, detection plots, elasticities and post-optimal
-    sensitivities (exit 2 on an invalid spec, 3 when the design leaves a requirement unmet).
-    Files in --out that diffsense did not write are not replaced without --force."""
+    sensitivities (exit 2 on an invalid spec, 3 when the design leaves a requirement unmet: each
+    such requirement is printed with its value, limit and shortfall). Files in --out that
+    diffsense did not write are not replaced without --force."""
     from diffsense.errors import SpecError
     from diffsense.report import build_report
     from diffsense.report.build import report_folder
@@ -177,8 +218,11 @@ def report(
         reporter.warn("not available", f"{item['section']}: {item['reason']}")
     for item in record["skipped_figures"]:
         reporter.warn("figure skipped", f"{item['figure']}: {item['reason']}")
-    if not record["feasible"]:
-        what = "the initial design leaves these requirements unmet" if no_optimize else \
-            "infeasible: these requirements cannot be met together within the bounds"
-        reporter.error(f"{what}: " + "; ".join(unmet(record)))
+    if record.get("findings"):
+        print_findings(record["findings"], reporter)
+    if not record["feasible"]:  # a result, not an error: each unmet requirement on stdout, exit 3
+        if not no_optimize:
+            reporter.info("infeasible: no design within the bounds meets every requirement; "
+                          "the report shows the best compromise", wrap=False)
+        print_unmet(record, reporter)
         raise typer.Exit(code=EXIT_UNMET)

@@ -98,9 +98,10 @@ class Reporter:
     def warn(self, label: str, message: str) -> None:
         self.err.print(Text.assemble((f"{label}:", "yellow"), " ", clip(message, MAX_ERROR)))
 
-    def info(self, message: str) -> None:
-        """A line of output (stdout): files written, summaries (control characters escaped)."""
-        self.out.print(Text(plain(message)))
+    def info(self, message: str, wrap: bool = True) -> None:
+        """A line of output (stdout): files written, summaries (control characters escaped);
+        ``wrap=False`` keeps it one line whatever the terminal's width."""
+        self.out.print(Text(plain(message)), soft_wrap=not wrap)
 
     @contextlib.contextmanager
     def step(self, text: str) -> Iterator[None]:

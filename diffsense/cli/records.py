@@ -99,3 +99,30 @@ def print_record(record: dict, reporter: Reporter, *, title_prefix: str = "") ->
 def unmet(record: dict) -> list:
     """Names of the requirements the record's design leaves unmet."""
     return [row["name"] for row in record["requirements"] if not row["met"]]
+
+
+def _with_unit(value: float, unit: str) -> str:
+    return fmt(value) + ("" if unit in ("", "1") else f" {unit}")
+
+
+def unmet_line(row: dict) -> str:
+    """One line for an unmet requirement row: its value, its limit and the shortfall (short of
+    a lower limit, over an upper one, off an equality), in the requirement's unit, and where an
+    interval requirement is worst.
+
+    >>> unmet_line({"name": "beam", "value": 1.1162, "limit": 1.1, "unit": "deg", "sense": "at_most",
+    ...             "slack": -0.0162, "met": False})
+    "requirement 'beam' not met: 1.1162 deg, limit <= 1.1 deg, over by 0.0162 deg"
+    """
+    how = {"at_least": "short by", "at_most": "over by", "equals": "off by"}[row["sense"]]
+    return (f"requirement {row['name']!r} not met: {_with_unit(row['value'], row['unit'])}, "
+            f"limit {_SENSE[row['sense']]} {_with_unit(row['limit'], row['unit'])}, "
+            f"{how} {_with_unit(-row['slack'], row['unit'])}{worst_point_text(row)}")
+
+
+def print_unmet(record: dict, reporter: Reporter) -> None:
+    """A line for each requirement the record's design leaves unmet (:func:`unmet_line`), on
+    standard output: a design that misses a requirement is a result, not an error."""
+    for row in record["requirements"]:
+        if not row["met"]:
+            reporter.info(unmet_line(row), wrap=False)

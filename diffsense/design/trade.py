@@ -29,6 +29,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from diffsense.design.activity import active_names
 from diffsense.design.model import DesignModel
 from diffsense.design.optimizer import tight_limits
 from diffsense.design.problem import requirement_problem
@@ -40,9 +41,6 @@ from diffsense.errors import SpecError
 from diffsense.optimize import SolverOptions
 from diffsense.optimize.bounds import variables_on_bounds
 from diffsense.optimize.continuation import knee_index, pareto_mask, trace_front
-
-#: a requirement whose slack is within this (scaled units) of zero is active
-ACTIVE_SLACK = 1e-6
 
 
 def trade_spec(spec: Spec) -> Spec:
@@ -183,9 +181,7 @@ def _points(model: DesignModel, objectives: TradeObjectives, front, limits) -> L
         c = int(front.group[i])
         values = model.design_values(front.x[i], c)
         F = objectives.host_values(values, float(model.combo_table[c, -1]), ev)
-        full_lam = model.inequality_multipliers(front.lam[i])
-        active = [r["name"] for r, lm, s, eq in zip(rows, full_lam, model.scales, model.is_equality)
-                  if eq or lm > 0.0 or abs(r["slack"]) <= ACTIVE_SLACK * s]
+        active = active_names(model, rows, model.inequality_multipliers(front.lam[i]))
         on_lo, on_hi = variables_on_bounds(bounds_problem_, front.x[i])
         bounds = [f"{n} at its lower bound" for n, b in zip(model.variable_names, on_lo) if b]
         bounds += [f"{n} at its upper bound" for n, b in zip(model.variable_names, on_hi) if b]
@@ -295,4 +291,4 @@ def trade_record(result: TradeResult) -> dict:
 
 
 __all__ = ["trade_spec", "trade_design", "trade_record", "TradeObjectives", "TradeResult", "objective_label",
-           "objective_unit", "stretches", "ACTIVE_SLACK"]
+           "objective_unit", "stretches"]

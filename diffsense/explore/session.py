@@ -22,6 +22,7 @@ from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 
+from diffsense.design.activity import requirement_status as design_status
 from diffsense.design.model import DesignModel
 from diffsense.design.spec import Spec
 from diffsense.errors import SpecError
@@ -31,18 +32,19 @@ from diffsense.report.inputs import design_inputs, input_vector
 from diffsense.report.jacobian import elasticity_matrix
 from diffsense.report.sweeps import budget_rows
 
-#: a met requirement is *active* when its slack is at most this, in the model's scaled units
-#: (dB, degrees and plain numbers absolute; other units relative to the limit)
+#: a met requirement is shown *active* when its slack is at most this, in the model's scaled
+#: units (dB, degrees and plain numbers absolute; other units relative to the limit): a design
+#: set by hand is not converged onto its limits, so the explorer's tolerance is wider than an
+#: optimum's (:data:`diffsense.design.activity.ACTIVE_SLACK`)
 ACTIVE_SLACK = 1e-3
 #: the output shown as each case's headline, in order of preference
 HEADLINE_OUTPUTS = ("snr_db", "sinr_db", "signal_excess_db", "snr_margin_db")
 
 
 def requirement_status(met: bool, scaled_slack: float) -> str:
-    """Stoplight of one requirement: "unmet", "active" (met, slack ≤ :data:`ACTIVE_SLACK`) or "met"."""
-    if not met:
-        return "unmet"
-    return "active" if scaled_slack <= ACTIVE_SLACK else "met"
+    """Stoplight of one requirement: "unmet", "active" (met, slack ≤ :data:`ACTIVE_SLACK`) or "met"
+    (:func:`diffsense.design.activity.requirement_status` at the explorer's tolerance)."""
+    return design_status(met, scaled_slack, ACTIVE_SLACK)
 
 
 def _source(spec_or_path) -> Tuple[Path, str]:
@@ -289,7 +291,8 @@ class ExplorerSession:
         """Elasticities (outputs × inputs, :func:`diffsense.report.jacobian.elasticity_matrix`)."""
         units = [r["unit"] for r in rows] + [self.objective_unit()]
         values = [r["value"] for r in rows] + [float(out["objective"])]
-        return elasticity_matrix(out["jacobian"], units, values, [i.unit for i in self.inputs], list(self.v))
+        return elasticity_matrix(out["jacobian"], units, values, [i.unit for i in self.inputs], list(self.v),
+                                 [r["output"] for r in rows] + [None], [i.param for i in self.inputs])
 
     # --- the spec with the current point ----------------------------------------------------
     def document_here(self):

@@ -13,6 +13,7 @@ from typing import Dict, List, Optional
 
 import numpy as np
 
+from diffsense.design.activity import design_findings
 from diffsense.design.model import DesignModel
 from diffsense.design.monte_carlo import attach_probabilities
 from diffsense.design.record import design_table
@@ -24,7 +25,7 @@ from diffsense.report.batch import BatchEvaluator, row
 from diffsense.design.runner import objective_scale
 from diffsense.report.content import report_blocks
 from diffsense.report.inputs import design_inputs
-from diffsense.report.jacobian import jacobian_section
+from diffsense.report.jacobian import jacobian_section, miss_measured
 from diffsense.report.postoptimal import post_optimal_section
 from diffsense.report.files import OutputFolder, safe_name
 from diffsense.report.render import REPORT_FILES, si_text, unit_text, write_report
@@ -184,6 +185,12 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
         report["post_optimal"] = {"available": False, "reason": reason}
         unavailable.append({"section": "multipliers and post-optimal sensitivities", "reason": reason})
 
+    # --- what sets the design --------------------------------------------------------------
+    try:
+        report["findings"] = design_findings(model, x, combo_index, report["requirements"], multipliers)
+    except Exception as exc:  # noqa: BLE001
+        unavailable.append({"section": "what sets the design", "reason": _reason(exc)})
+
     # --- figures -------------------------------------------------------------------------
     figs, skipped = _figures(folder, model, inputs, batch, report, jac)
     report["figures"] = figs
@@ -258,11 +265,11 @@ def _figures(folder: OutputFolder, model: DesignModel, inputs, batch, report: di
     skipped: List[dict] = []
     spec = model.spec
 
-    def attempt(name: str, title: str, caption: str, fn):
+    def attempt(name: str, title: str, caption: str, fn, section: str):
         try:
             # names carry case names from the spec: made safe, never a path of their own
             path = fn(folder.file(f"{FIGURE_DIR}/{safe_name(name)}.png"))
-            figs.append({"file": f"{FIGURE_DIR}/{path.name}", "title": title, "caption": caption})
+            figs.append({"file": f"{FIGURE_DIR}/{path.name}", "title": title, "caption": caption, "section": section})
         except Exception as exc:  # noqa: BLE001 - a figure that cannot be drawn is listed, not fatal
             skipped.append({"figure": title, "reason": _reason(exc)})
 
@@ -281,7 +288,8 @@ def _figures(folder: OutputFolder, model: DesignModel, inputs, batch, report: di
                     f"Link budget{tag}: each term (dB) as a bar from the running total before it to the one after it; "
                     "the last bar is the SNR, the sum of the terms.",
                     lambda p, d=data, nd=needed, lb=label: figures.waterfall(
-                        p, d["budget"], title=f"{spec.title}: link budget{tag}", required_db=nd, required_label=lb))
+                        p, d["budget"], title=f"{spec.title}: link budget{tag}", required_db=nd, required_label=lb),
+                    f"budget:{case}")
         else:
             skipped.append({"figure": f"Link budget{tag}", "reason": "the chain produces no budget"})
         p_idx = input_index(inputs, "pd", case)
@@ -299,23 +307,28 @@ def _figures(folder: OutputFolder, model: DesignModel, inputs, batch, report: di
                 attempt(f"snr_vs_range_{case}", f"SNR versus range{tag}",
                         f"SNR{tag} against range with every other input at its design value; dotted: the range the "
                         "requirements are stated at; the marker shows where the main margin requirement is just met.",
-                        lambda p: figures.snr_vs_range(p, sweep, title=f"{spec.title}: SNR versus range{tag}"))
+                        lambda p: figures.snr_vs_range(p, sweep, title=f"{spec.title}: SNR versus range{tag}"),
+                        f"range:{case}")
             else:
                 skipped.append({"figure": f"SNR versus range{tag}", "reason": "the chain has no snr_db output"})
             if "pd" in sweep["outputs"]:
                 attempt(f"pd_vs_range_{case}", f"Pd versus range{tag}",
                         f"Probability of detection{tag} against range: the chain's pd output (its detector and "
-                        "target statistics, at the mean target strength).",
+                        "target statistics); where the main margin requirement states its own condition (a faded "
+                        "target), solid in that condition and dashed at the mean target strength; the marker shows "
+                        "where that requirement is just met, the same range as in the SNR figure.",
                         lambda p: figures.pd_vs_range(p, sweep, required_pd=req_pd, pfa=pfa,
-                                                      title=f"{spec.title}: Pd versus range{tag}"))
+                                                      title=f"{spec.title}: Pd versus range{tag}"),
+                        f"range:{case}")
             else:
                 skipped.append({"figure": f"Pd versus range{tag}", "reason": "the chain has no pd output for this scene"})
         attempt(f"roc_{case}", f"ROC{tag}",
                 f"Receiver operating characteristic{tag}: the chain's Pd as Pfa varies over the chain's domain of "
                 "pfa, at the design (its range and SNR) and at the longer ranges where the design's Pd falls to "
-                "0.9, 0.5 and 0.1; the star is the required operating point.",
+                "0.9, 0.5 and 0.1, at the mean target strength; the star is the required operating point.",
                 lambda p: figures.roc(p, roc_sweep(batch, inputs, case), required_pd=req_pd,
-                                      title=f"{spec.title}: ROC{tag}"))
+                                      title=f"{spec.title}: ROC{tag}"),
+                f"roc:{case}")
         if spec.sensor == "radar" and coverage_applies(spec.scenes[case]):
             attempt(f"coverage_{case}", f"Coverage chart (Blake){tag}",
                     f"Range-height coverage{tag} over the 4/3 earth. Assumptions: the main margin requirement "
@@ -325,27 +338,32 @@ def _figures(folder: OutputFolder, model: DesignModel, inputs, batch, report: di
                     "target height: lobing with elevation angle is not modelled); antenna height 0 m unless the "
                     "scene has antenna_height_m.",
                     lambda p: figures.blake_chart(p, blake_coverage(batch, model, inputs, case),
-                                                  title=f"{spec.title}: coverage over the 4/3 earth{tag}"))
+                                                  title=f"{spec.title}: coverage over the 4/3 earth{tag}"),
+                    f"coverage:{case}")
         else:
             skipped.append({"figure": f"Coverage chart (Blake){tag}", "reason": coverage_skip_reason(spec.scenes[case])})
     for j, row in enumerate(report["requirements"]):
         if row.get("curve"):
             attempt(f"interval_{j}", f"'{row['name']}' over its interval",
-                    interval_caption(row), lambda p, row=row: interval_margin(p, row, title=f"{spec.title}: {row['name']}"))
+                    interval_caption(row), lambda p, row=row: interval_margin(p, row, title=f"{spec.title}: {row['name']}"),
+                    f"interval:{j}")
     if jac is not None:
-        labels = [f"{i.name} = {si_text(i.value, i.unit)}" for i in inputs]
+        labels = [f"{i.name} = {si_text(i.value, i.unit)}" + (" (as 1 − pd, dB)" if miss_measured(i.param, i.value) else "")
+                  for i in inputs]
         status = jac["fd_check"].get("status")
         for a, r in enumerate(model.requirements):
             marked = [lab + (" (kink)" if status is not None and status[a, j] == "not_smooth" else "")
                       for j, lab in enumerate(labels)]
             attempt(f"tornado_{a}", f"Elasticities of '{r.name}'",
                     f"Elasticity of {r.case}.{r.output} with respect to each input (dB per dB, or % per % for linear "
-                    "quantities), largest influence at the top; green raises the output, red lowers it. "
+                    "quantities; a probability of detection as its miss probability 1 − Pd in dB), largest influence "
+                    "at the top; green raises the output, red lowers it. "
                     "'(kink)': the output is not smooth in that input at the design; the bar is the "
                     "automatic derivative, a one-sided slope.",
                     lambda p, a=a, r=r, marked=marked: figures.tornado(
                         p, marked, jac["elasticity"][a], title=f"Elasticities of {r.output} ('{r.name}')",
-                        xlabel="Elasticity (dB per dB; % per % for linear quantities)"))
+                        xlabel="Elasticity (dB per dB; % per % for linear quantities)"),
+                    f"tornado:{a}")
     return figs, skipped
 
 

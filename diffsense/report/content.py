@@ -6,14 +6,23 @@ from typing import List
 
 import numpy as np
 
+from diffsense.report.glance import glance_blocks
 from diffsense.report.jacobian import FD_STEP
 from diffsense.report.render import fmt, unit_text
 
 _SENSE = {"at_least": "≥", "at_most": "≤", "equals": "="}
 
 
-def _figure_blocks(report: dict, title_prefix: str) -> List[tuple]:
-    return [("img", f["file"], f["caption"]) for f in report.get("figures", []) if f["title"].startswith(title_prefix)]
+def _figure_blocks(report: dict, section: str) -> List[tuple]:
+    """The figures of ``section`` (the ``section`` key :func:`~diffsense.report.build.build_report`
+    gives each figure it wrote: ``budget:<case>``, ``range:<case>``, ``roc:<case>``,
+    ``coverage:<case>``, ``interval:<j>``, ``tornado:<j>``)."""
+    return [("img", f["file"], f["caption"]) for f in report.get("figures", []) if f.get("section") == section]
+
+
+def _skipped_line(report: dict, title: str) -> List[tuple]:
+    """One line saying why the figure titled ``title`` was not drawn (nothing if it was not skipped)."""
+    return [("p", f"Not drawn: {s['reason']}") for s in report.get("skipped_figures", []) if s["figure"] == title]
 
 
 def description_blocks(text: str) -> List[tuple]:
@@ -160,7 +169,7 @@ def _budgets(report: dict) -> List[tuple]:
         rows = [[r["term"], r["db"], r["running_total_db"]] for r in c["budget"]]
         rows.append(["SNR (sum of the terms)", c["budget_total_db"], c["budget_total_db"]])
         blocks.append(("table", ["term", "dB", "running total (dB)"], rows))
-        blocks += _figure_blocks(report, f"Link budget{tag}")
+        blocks += _figure_blocks(report, f"budget:{case}")
         outs = c["outputs"]
         keys = [k for k in ("snr_db", "required_snr_db", "snr_margin_db", "faded_snr_margin_db", "pd",
                             "detection_range_m") if k in outs]
@@ -171,15 +180,37 @@ def _budgets(report: dict) -> List[tuple]:
 
 
 def _detection(report: dict) -> List[tuple]:
-    blocks = [("h2", "Detection against range")]
-    blocks += _figure_blocks(report, "SNR versus range")
-    blocks += _figure_blocks(report, "Pd versus range")
-    blocks.append(("h2", "Receiver operating characteristic"))
-    blocks += _figure_blocks(report, "ROC")
-    if report["sensor"] == "radar":
-        blocks.append(("h2", "Coverage chart"))
-        blocks += _figure_blocks(report, "Coverage chart")
+    """Range sweeps, ROC and (radar) coverage of every case; a heading whose figures were all
+    skipped says why in one line."""
+    cases = list(report["cases"])
+    multi = len(cases) > 1
+    blocks: List[tuple] = []
+    for heading, key, titles in (("Detection against range", "range", ("SNR versus range", "Pd versus range")),
+                                 ("Receiver operating characteristic", "roc", ("ROC",)),
+                                 ("Coverage chart", "coverage", ("Coverage chart (Blake)",))):
+        if key == "coverage" and report["sensor"] != "radar":
+            continue
+        body: List[tuple] = []
+        for case in cases:
+            tag = f" ({case})" if multi else ""
+            figs = _figure_blocks(report, f"{key}:{case}")
+            body += figs
+            if not figs:
+                for t in titles:
+                    body += [("p", f"{t}{tag}: {b[1][len('Not drawn: '):]}") for b in _skipped_line(report, f"{t}{tag}")]
+        if body:
+            blocks += [("h2", heading)] + body
     return blocks
+
+
+def _intervals(report: dict) -> List[tuple]:
+    """Each interval requirement's margin over its interval (figures ``interval:<j>``)."""
+    body: List[tuple] = []
+    for j, r in enumerate(report["requirements"]):
+        figs = _figure_blocks(report, f"interval:{j}")
+        if figs:
+            body += [("h3", r["name"])] + figs
+    return [("h2", "Requirements over their intervals")] + body if body else []
 
 
 def _elasticities(report: dict) -> List[tuple]:
@@ -216,7 +247,7 @@ def _elasticities(report: dict) -> List[tuple]:
                                      "FD rel. diff"], rows))
         else:
             blocks.append(("p", "No input changes this output."))
-        blocks += [b for b in _figure_blocks(report, f"Elasticities of '{out['name']}'")]
+        blocks += _figure_blocks(report, f"tornado:{a}")
     mx = fd.get("max_rel_diff")
     text = (f"Finite-difference check: fourth-order central differences (step {FD_STEP:g} in ln u for positive inputs, "
             f"{FD_STEP:g}·max(1, |u|) otherwise) against the automatic derivatives. Largest relative difference over "
@@ -289,10 +320,21 @@ def _unavailable(report: dict) -> List[tuple]:
     return [("h2", "Sections and figures not produced"), ("ul", items)]
 
 
+def _orphans(report: dict, blocks: List[tuple]) -> List[tuple]:
+    """Every figure written that no section above shows (none, when each figure's section is
+    known): a figure written is always shown."""
+    shown = {b[1] for b in blocks if b[0] == "img"}
+    rest = [("img", f["file"], f["caption"]) for f in report.get("figures", []) if f["file"] not in shown]
+    return [("h2", "Other figures")] + rest if rest else []
+
+
 def report_blocks(report: dict) -> List[tuple]:
-    """All blocks of the report, in reading order."""
-    return (_summary(report) + _design(report) + _requirements(report) + _probabilities(report) + _budgets(report) + _detection(report)
-            + _elasticities(report) + _post_optimal(report) + _unavailable(report))
+    """All blocks of the report, in reading order: the one-page summary
+    (:mod:`diffsense.report.glance`) first."""
+    blocks = (_summary(report)[:1] + glance_blocks(report) + _summary(report)[1:] + _design(report)
+              + _requirements(report) + _intervals(report) + _probabilities(report) + _budgets(report)
+              + _detection(report) + _elasticities(report) + _post_optimal(report))
+    return blocks + _orphans(report, blocks) + _unavailable(report)
 
 
 __all__ = ["report_blocks"]

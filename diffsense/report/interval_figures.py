@@ -7,7 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-from diffsense.report.figures import _finish, _pyplot, _range_axis
+from diffsense.report import style
+from diffsense.report.figures import _finish, _range_axis
 
 __all__ = ["interval_margin", "interval_caption"]
 
@@ -24,7 +25,6 @@ def interval_caption(row: dict) -> str:
 
 def interval_margin(path, row: dict, *, title: str) -> Path:
     """Draw ``row``'s output over its one-parameter interval with the limit and the worst point."""
-    plt = _pyplot()
     (name,) = row["over"]
     unit = row["over"][name][2]
     p = np.asarray(row["curve"]["parameter"], dtype=float)
@@ -34,7 +34,7 @@ def interval_margin(path, row: dict, *, title: str) -> Path:
         x, xunit, div = _range_axis(p)
     else:
         x, xunit, div = p, unit, 1.0
-    fig, ax = plt.subplots(figsize=(7.8, 4.6))
+    fig, ax = style.new_figure(7.8, 4.6)
     ax.plot(x, v, color="#1565c0", linewidth=1.4, label=f"{row['output']} ({row['unit']})")
     ax.axhline(row["limit"], color="#c62828", linestyle="--", linewidth=1.2,
                label=f"limit: {'at least' if row['sense'] == 'at_least' else 'at most'} {row['limit']:g} {row['unit']}")
@@ -47,7 +47,7 @@ def interval_margin(path, row: dict, *, title: str) -> Path:
         span = hi - lo if hi > lo else 1.0
         ax.set_ylim(lo - 0.08 * span, min(hi + 0.08 * span, lo + 200.0))
     if p[0] > 0 and p[-1] / p[0] >= 10:
-        ax.set_xscale("log")
+        style.log_scale(ax, "x")
     ax.set_xlabel(f"{name} ({xunit})")
     ax.set_ylabel(f"{row['output']} ({row['unit']})")
-    return _finish(fig, ax, path, title, grid=dict(alpha=0.35), legend="best")
+    return _finish(fig, ax, path, title, grid=dict(which="both", alpha=0.35))

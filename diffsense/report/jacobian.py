@@ -18,6 +18,12 @@ quantities E = ∂y/∂u (dB per dB), and mixed pairs are dB per dB of the linea
 10 log10. A power-law relation y ∝ u^a has E = a everywhere. E is not defined (reported as
 ``None``) where a linear quantity is not positive or has no ratio scale (degrees Celsius).
 
+A probability of detection near 1 is measured by its *miss probability* 1 − Pd in dB,
+10 log10(1 − Pd): dB per dB of Pd itself is not meaningful there (Pd 0.95 → 0.96 is 0.05 dB of
+Pd but a fifth less missed detections), while halving the miss probability (−3 dB) is the step
+an engineer asks about. An input or output named ``pd`` (:data:`MISS_MEASURED`) is measured so,
+and the report says so next to it.
+
 Finite-difference check
 -----------------------
 Each input is stepped in its own measure (ln u for positive ratio inputs, u itself otherwise)
@@ -60,9 +66,32 @@ def _is_ratio(unit: str, value: float) -> bool:
     return (not is_db_unit(unit)) and unit not in _NON_RATIO_UNITS and np.isfinite(value) and value > 0
 
 
-def measure_factor(unit: str, value: float) -> Optional[float]:
+#: quantities (base names, without a case prefix) measured by their miss probability 1 − p in dB
+MISS_MEASURED = frozenset({"pd"})
+
+
+def miss_measured(name: Optional[str], value: float) -> bool:
+    """True for a probability of detection (``name`` in :data:`MISS_MEASURED`, after any
+    ``case.`` prefix) strictly between 0 and 1: measured as 10 log10(1 − p).
+
+    >>> miss_measured("main.pd", 0.95), miss_measured("pfa", 1e-6), miss_measured("pd", 1.0)
+    (True, False, False)
+    """
+    if not name:
+        return False
+    return name.rsplit(".", 1)[-1] in MISS_MEASURED and np.isfinite(value) and 0.0 < value < 1.0
+
+
+def measure_factor(unit: str, value: float, name: Optional[str] = None) -> Optional[float]:
     """d(quantity_dB)/d(quantity): 1 for dB units, 10/(ln 10 · q) for positive ratio quantities,
-    ``None`` where no dB measure exists."""
+    −10/(ln 10 · (1 − p)) for a probability of detection ``name`` (:func:`miss_measured`),
+    ``None`` where no dB measure exists.
+
+    >>> round(measure_factor("1", 0.9, "pd"), 4), round(measure_factor("1", 0.9), 4)
+    (-43.4294, 4.8254)
+    """
+    if miss_measured(name, value):
+        return -1.0 / (_LN10_10 * (1.0 - value))
     if is_db_unit(unit):
         return 1.0
     if _is_ratio(unit, value):
@@ -70,16 +99,20 @@ def measure_factor(unit: str, value: float) -> Optional[float]:
     return None
 
 
-def elasticity_matrix(derivative, out_units, out_values, in_units, in_values):
-    """Elasticities E[i, j] = d y_i,dB / d u_j,dB (module docstring); NaN where undefined."""
+def elasticity_matrix(derivative, out_units, out_values, in_units, in_values, out_names=None, in_names=None):
+    """Elasticities E[i, j] = d y_i,dB / d u_j,dB (module docstring); NaN where undefined.
+    ``out_names``/``in_names``: the quantities' names, so that a probability of detection is
+    measured by its miss probability (:func:`miss_measured`)."""
     d = np.asarray(derivative, dtype=float)
     e = np.full(d.shape, np.nan)
-    for i, (ou, ov) in enumerate(zip(out_units, out_values)):
-        fo = measure_factor(ou, ov)
+    out_names = out_names or [None] * len(out_units)
+    in_names = in_names or [None] * len(in_units)
+    for i, (ou, ov, on) in enumerate(zip(out_units, out_values, out_names)):
+        fo = measure_factor(ou, ov, on)
         if fo is None:
             continue
-        for j, (iu, iv) in enumerate(zip(in_units, in_values)):
-            fi = measure_factor(iu, iv)
+        for j, (iu, iv, inn) in enumerate(zip(in_units, in_values, in_names)):
+            fi = measure_factor(iu, iv, inn)
             if fi is None:
                 continue
             e[i, j] = fo * d[i, j] / fi
@@ -226,11 +259,12 @@ def jacobian_section(batch, inputs: List[Input], outputs: List[dict]) -> dict:
         derivative=derivative,
         values=out_values,
         elasticity=elasticity_matrix(derivative, [o["unit"] for o in outputs], out_values,
-                                     [i.unit for i in inputs], [i.value for i in inputs]),
+                                     [i.unit for i in inputs], [i.value for i in inputs],
+                                     [o.get("output") for o in outputs], [i.param for i in inputs]),
         fd_check=check,
     )
     return section
 
 
-__all__ = ["jacobian_section", "is_db_unit", "measure_factor", "elasticity_matrix", "finite_difference_rows",
+__all__ = ["jacobian_section", "is_db_unit", "measure_factor", "miss_measured", "MISS_MEASURED", "elasticity_matrix", "finite_difference_rows",
            "finite_difference_check", "FD_STEP"]

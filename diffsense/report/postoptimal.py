@@ -50,10 +50,10 @@ import numpy as np
 from diffsense.design.model import DesignModel
 from diffsense.design.runner import bounds_problem
 from diffsense.optimize.bounds import variables_on_bounds
+from diffsense.design.activity import active_mask
 from diffsense.optimize.sensitivity import active_set_derivative, kkt_matrix, stationarity_multipliers
 from diffsense.report.inputs import Input
 
-ACTIVE_TOL = 1e-6  # scaled residual above which an inequality counts as active
 FLAT_TOL = 1e-9
 
 
@@ -77,8 +77,7 @@ def post_optimal_section(model: DesignModel, inputs: List[Input], batch, x, comb
     req_values = np.asarray(req_values, dtype=float)
     lam_opt = np.asarray(multipliers, dtype=float)
     n_req = len(model.requirements)
-    scaled = model.sign * (req_values - model.limits) / model.scales
-    active = model.is_equality | (scaled >= -ACTIVE_TOL) | (lam_opt > 0.0)
+    active = active_mask(model, model.requirement_rows(req_values), lam_opt)
     status = _status(model, x)
     var_cols = [next(k for k, inp in enumerate(inputs) if inp.kind == "variable" and inp.param == n)
                 for n in model.variable_names]

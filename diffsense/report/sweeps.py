@@ -71,7 +71,16 @@ def range_sweep(batch, model: DesignModel, inputs: List[Input], case: str, n: in
     falls below 0.5 on a geometric pre-sweep from 2 R to 64 R (same batch shape, so no new
     compilation), so that the curves show where detection is lost. Clipped to the parameter's
     domain. ``threshold_db`` is the SNR at which the main margin requirement is exactly met:
-    snr_db − margin + limit at each range."""
+    snr_db − margin + limit at each range; ``met_to_m`` the range where that requirement is
+    last just met (:func:`last_crossing` of its margin), the one crossing both range figures
+    mark.
+
+    When the requirement states detection in another condition than the chain's ``snr_db``
+    against its ``required_snr_db`` (a target in its deepest fade, ``faded_snr_margin_db``;
+    a margin limit other than 0 dB; clutter in the margin), ``condition`` holds that condition:
+    ``text`` (:func:`condition_text`), the SNR in it (``snr_db`` less the offset
+    ``threshold_db`` − ``required_snr_db``: it meets the required SNR where the margin meets
+    its limit) and the Pd in it (:func:`requirement_pd`; None without a ``pd`` output)."""
     k = input_index(inputs, "range_m", case)
     if k is None:
         raise LookupError(f"case '{case}' has no numeric range_m input")
@@ -98,9 +107,107 @@ def range_sweep(batch, model: DesignModel, inputs: List[Input], case: str, n: in
         margin = np.asarray(ev.values[req.output])
         out["margin_requirement"] = {"name": req.name, "output": req.output, "limit": req.limit}
         out["outputs"][req.output] = margin
+        out["met_to_m"] = last_crossing(grid, (margin - req.limit) * (1.0 if req.sense == "at_least" else -1.0))
         if "snr_db" in ev.values:
-            out["threshold_db"] = np.asarray(ev.values["snr_db"]) - margin + req.limit
+            snr = np.asarray(ev.values["snr_db"])
+            out["threshold_db"] = snr - margin + req.limit
+            if "required_snr_db" in ev.values:
+                offset = out["threshold_db"] - np.asarray(ev.values["required_snr_db"])
+                if np.any(np.abs(offset[np.isfinite(offset)]) > 1e-6):
+                    condition = {"text": condition_text(inputs, case, req), "snr_db": snr - offset, "pd": None}
+                    if "pd" in ev.values:
+                        condition["pd"] = requirement_pd(batch, inputs, case, grid, req, margin)
+                    out["condition"] = condition
     return out
+
+
+def last_crossing(grid, margin) -> Optional[float]:
+    """The value of ``grid`` where ``margin`` (≥ 0: met) last falls from met to unmet, by linear
+    interpolation between the grid points around it; None when it is met everywhere, nowhere,
+    or still at the grid's end."""
+    m = np.asarray(margin, dtype=float)
+    ok = np.isfinite(m) & (m >= 0.0)
+    if not ok.any() or ok.all():
+        return None
+    last = int(np.max(np.flatnonzero(ok)))
+    if last + 1 >= m.size or not np.isfinite(m[last + 1]):
+        return None
+    t = m[last] / (m[last] - m[last + 1])
+    return float(grid[last] + t * (grid[last + 1] - grid[last]))
+
+
+def condition_text(inputs: List[Input], case: str, req) -> str:
+    """The condition a margin requirement states the detection in, when it is not the chain's
+    plain SNR against the required SNR, as a phrase to follow "SNR" or "Pd": the deepest fade
+    of the target (``faded_snr_margin_db``), else the requirement's own margin output; a
+    limit other than 0 dB is added."""
+    limit = f" with a {req.limit:g} dB margin" if abs(req.limit) > 1e-12 else ""
+    if req.output == "faded_snr_margin_db":
+        k = input_index(inputs, "rcs_fade_db", case)
+        fade = f"faded by {inputs[k].value:g} dB" if k is not None else "in its deepest fade"
+        return f"of the target {fade}{limit}"
+    return f"as {req.output} counts it{limit}"
+
+
+def requirement_pd(batch, inputs: List[Input], case: str, grid, req, margin, tol_db: float = 1e-7,
+                   steps: int = 8) -> Optional[np.ndarray]:
+    """Pd at each range of ``grid`` in the condition the margin requirement ``req`` states
+    (e.g. the target in its deepest fade): the required-Pd input ``pd`` at which the margin is
+    exactly at its limit, so that it reaches the requirement's Pd exactly where the margin
+    reaches its limit. ``margin``: the requirement's output on ``grid`` at the design's Pd.
+
+    The margin falls as the required Pd rises (the required SNR grows), so each range has one
+    root, sought on u = logit(pd). The margin at the case's own range against u, tabulated on
+    ``len(grid)`` points, gives each range's first estimate and the slope of the steps: exact
+    when Pd enters the margin only through the required SNR (m(R, pd) = g(R) − SNR_req(pd)),
+    a secant otherwise. Each step evaluates the chain at every range; the rows still more than
+    ``tol_db`` from the limit are stepped again (at most ``steps`` times), a row never within
+    1e-4 dB is NaN. Pd is sought between 10·Pfa (and 1e-9) and 1 − 1e-9: a range where even the
+    least Pd misses the margin gets the least, one where the largest meets it the largest.
+    None when the case has no numeric ``pd``, ``pfa`` or ``range_m`` input."""
+    kr, kp, kf = (input_index(inputs, name, case) for name in ("range_m", "pd", "pfa"))
+    if kp is None or kf is None or kr is None:
+        return None
+    sign = 1.0 if req.sense == "at_least" else -1.0
+    n = len(grid)
+    V = np.repeat(np.array([i.value for i in inputs], dtype=float)[None, :], n, axis=0)
+
+    def excess(ranges, p):
+        """margin − limit (≥ 0: met) at ``ranges`` and required Pd ``p``."""
+        V[:, kr] = ranges
+        V[:, kp] = p
+        values, _ = batch(V)
+        return sign * (np.asarray(values[0][case].values[req.output], dtype=float) - req.limit)
+
+    p_lo, p_hi = max(10.0 * inputs[kf].value, 1e-9), 1.0 - 1e-9
+    u_tab = np.linspace(math.log(p_lo / (1.0 - p_lo)), math.log(p_hi / (1.0 - p_hi)), n)
+    h = excess(np.full(n, inputs[kr].value), 1.0 / (1.0 + np.exp(-u_tab)))  # falls with u
+    ok = np.isfinite(h)
+    if ok.sum() < 2:
+        return np.full(n, np.nan)
+    u_tab, h = u_tab[ok], h[ok]
+    slope_tab = np.gradient(h, u_tab)
+    h0 = float(np.interp(math.log(inputs[kp].value / (1.0 - inputs[kp].value)), u_tab, h))
+    target = h0 - sign * (np.asarray(margin, dtype=float) - req.limit)  # h(u) at the root, Pd apart
+    u = np.interp(target, h[::-1], u_tab[::-1])
+    pd = np.full(n, np.nan)
+    pd[target > h[0]] = p_lo
+    pd[target < h[-1]] = p_hi
+    open_ = np.isfinite(target) & np.isnan(pd)
+    near = np.full(n, np.nan)  # the last Pd within 1e-4 dB of the limit
+    for _ in range(steps):
+        if not open_.any():
+            break
+        p = 1.0 / (1.0 + np.exp(-u))
+        f = excess(grid, p)
+        pd = np.where(open_ & (np.abs(f) <= tol_db), p, pd)
+        near = np.where(open_ & (np.abs(f) <= 1e-4), p, near)
+        open_ &= ~(np.abs(f) <= tol_db)
+        slope = np.interp(u, u_tab, slope_tab)
+        step = np.where(open_ & (slope < 0.0) & np.isfinite(f), -f / np.where(slope < 0.0, slope, -1.0), 0.0)
+        u = np.clip(u + step, u_tab[0], u_tab[-1])
+    pd[open_] = near[open_]
+    return pd
 
 
 def roc_sweep(batch, inputs: List[Input], case: str, pd_levels=(0.9, 0.5, 0.1), n: int = 121) -> dict:
@@ -230,5 +337,6 @@ def blake_coverage(batch, model: DesignModel, inputs: List[Input], case: str, *,
     }
 
 
-__all__ = ["MARGIN_OUTPUTS", "main_margin", "input_index", "budget_rows", "sweep", "range_sweep", "roc_sweep",
+__all__ = ["MARGIN_OUTPUTS", "main_margin", "input_index", "budget_rows", "sweep", "range_sweep", "last_crossing",
+           "condition_text", "requirement_pd", "roc_sweep",
            "gaussian_pattern_db", "height_over_effective_earth_m", "blake_coverage"]

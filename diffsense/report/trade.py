@@ -17,8 +17,9 @@ from typing import List
 import numpy as np
 
 from diffsense.design.trade import TradeResult
+from diffsense.report.trade_glance import glance_markdown
 from diffsense.optimize.continuation import normalized
-from diffsense.report.figures import _pyplot, _save
+from diffsense.report import style
 
 
 def _axis_label(label: str, unit: str) -> str:
@@ -31,10 +32,10 @@ def _log_axis(values) -> bool:
 
 
 def front_figure(result: TradeResult, path: Path, i: int = 0, j: int = 1) -> Path:
-    """Objective ``j`` against objective ``i`` over the front; anchors and knee marked."""
-    plt = _pyplot()
+    """Objective ``j`` against objective ``i`` over the front, each axis named by its
+    objective's text (its sense, terms and weights); anchors and knee marked."""
     F = np.array([p["F"] for p in result.points])
-    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    fig, ax = style.new_figure(6.8, 4.8)
     combos = sorted({p["combo_index"] for p in result.points})
     for c in combos:
         mine = np.array([p["combo_index"] == c for p in result.points])
@@ -45,62 +46,79 @@ def front_figure(result: TradeResult, path: Path, i: int = 0, j: int = 1) -> Pat
         ax.plot(F[anchors, i], F[anchors, j], "s", ms=9, mfc="none", mec="k", label="anchor")
     if result.knee is not None:
         ax.plot(F[result.knee, i], F[result.knee, j], "*", ms=14, color="crimson", label="knee")
-    ax.set_xscale("log" if _log_axis(F[:, i]) else "linear")
-    ax.set_yscale("log" if _log_axis(F[:, j]) else "linear")
-    ax.set_xlabel(_axis_label(result.labels[i], result.units[i]))
-    ax.set_ylabel(_axis_label(result.labels[j], result.units[j]))
-    ax.set_title(f"Pareto front: {result.model.spec.title}"[:80], fontsize=9)
+    for which, k in (("x", i), ("y", j)):
+        if _log_axis(F[:, k]):
+            style.log_scale(ax, which)
+    ax.set_xlabel(_axis_label(result.objectives[i].text, result.units[i]))
+    ax.set_ylabel(_axis_label(result.objectives[j].text, result.units[j]))
+    style.set_title(ax, f"Pareto front: {result.model.spec.title}")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    return _save(fig, path)
+    style.legend(ax)
+    return style.save(fig, path)
 
 
 def parallel_figure(result: TradeResult, path: Path) -> Path:
     """Parallel coordinates of every objective, normalised to the front's ideal–nadir box in
     the minimised sense (0 the best value on the front, 1 the worst, a maximised objective
     flipped); each axis end is labelled with its value."""
-    plt = _pyplot()
     F = np.array([p["F"] for p in result.points])
     signs = np.array([o.sign for o in result.objectives])
     f = normalized(F * signs)  # minimised sense: 0 the best value on the front, 1 the worst
     best = np.where(signs > 0, F.min(axis=0), F.max(axis=0))
     worst = np.where(signs > 0, F.max(axis=0), F.min(axis=0))
-    fig, ax = plt.subplots(figsize=(7.0, 4.4))
-    colours = plt.cm.viridis(f[:, 0])
+    fig, ax = style.new_figure(7.4, 4.8)
+    colours = style.pyplot().cm.viridis(f[:, 0])
     for row, col in zip(f, colours):
         ax.plot(range(F.shape[1]), row, color=col, lw=1.0, alpha=0.8)
     if result.knee is not None:
         ax.plot(range(F.shape[1]), f[result.knee], color="crimson", lw=2.5, label="knee")
-        ax.legend(fontsize=7)
-    ax.set_xticks(range(F.shape[1]))
-    ax.set_xticklabels([_axis_label(lab, u) for lab, u in zip(result.labels, result.units)], fontsize=7,
-                       rotation=10)
+    style.category_ticks(ax.xaxis, range(F.shape[1]),
+                         [_axis_label(lab, u) for lab, u in zip(result.labels, result.units)])
     for k in range(F.shape[1]):
         ax.annotate(f"{best[k]:.3g}", (k, 0.0), xytext=(3, -12), textcoords="offset points", fontsize=7)
         ax.annotate(f"{worst[k]:.3g}", (k, 1.0), xytext=(3, 4), textcoords="offset points", fontsize=7)
     ax.set_ylabel("normalised objective (0 best on the front, 1 worst)")
-    ax.set_ylim(-0.08, 1.08)
-    ax.set_title(f"Trade of {F.shape[1]} objectives: {result.model.spec.title}"[:80], fontsize=9)
+    ax.set_ylim(-0.12, 1.12)
+    style.set_title(ax, f"Trade of {F.shape[1]} objectives: {result.model.spec.title}")
     ax.grid(True, axis="x", alpha=0.4)
-    fig.tight_layout()
-    return _save(fig, path)
+    style.legend(ax)
+    return style.save(fig, path)
+
+
+def csv_header(result: TradeResult) -> List[str]:
+    """The column names of ``front.csv``, each saying what its column holds and none repeated
+    (an objective may be a design variable as well): ``objective: <its text> (unit)``, each
+    design variable and catalog parameter as ``name (unit)``, each catalog as ``name (catalog
+    option)``, then the KKT residual, the objective a point is the anchor of, the knee and the
+    active requirements."""
+    model = result.model
+    spec = model.spec
+    first = next(iter(spec.scenes))
+    names = [_axis_label(f"objective: {o.text}", u) for o, u in zip(result.objectives, result.units)]
+    names += [_axis_label(n, spec.variables[n].unit) for n in model.variable_names]
+    names += [_axis_label(n, spec.unit_of(first, n)) for n in model.combo_params]
+    names += [f"{c} (catalog option)" for c in model.choice_names]
+    names += ["kkt_residual", "anchor_of", "knee", "active_requirements"]
+    seen: dict = {}
+    unique = []
+    for n in names:  # unique by construction; a repeat would still be told apart
+        seen[n] = seen.get(n, 0) + 1
+        unique.append(n if seen[n] == 1 else f"{n} #{seen[n]}")
+    return unique
 
 
 def write_csv(result: TradeResult, path) -> Path:
-    """One row per front point: objectives, design values, catalog options, KKT residual,
-    active requirements. ``path``: a :class:`~diffsense.report.files.FileTarget` or a plain path
-    (written atomically either way)."""
+    """One row per front point (columns: :func:`csv_header`): objectives, design values,
+    catalog options, KKT residual, active requirements. ``path``: a
+    :class:`~diffsense.report.files.FileTarget` or a plain path (written atomically either way)."""
     import io
 
     from diffsense.report.files import FileTarget, write_atomically
 
     model = result.model
-    names = list(model.variable_names) + list(model.combo_params)
     with io.StringIO(newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(result.labels + names + list(model.choice_names) + ["kkt_residual", "anchor_of", "knee",
-                                                                        "active_requirements"])
+        w.writerow(csv_header(result))
         for k, p in enumerate(result.points):
             combo = model.combinations[p["combo_index"]]
             values = list(p["x"]) + [model.combo_table[p["combo_index"]][j] for j in range(len(model.combo_params))]
@@ -117,7 +135,7 @@ def write_csv(result: TradeResult, path) -> Path:
 
 def markdown(result: TradeResult, figures: List[Path], out: Path) -> str:
     """The trade report: objectives, counts, anchors and knee, the stretches of the front."""
-    lines = [f"# Trade study: {result.model.spec.title}", ""]
+    lines = [f"# Trade study: {result.model.spec.title}", ""] + glance_markdown(result)
     lines += ["Objectives: " + "; ".join(f"{o.text}" for o in result.objectives), ""]
     d = result.dropped
     lines += [f"{len(result.points)} points on the front ({result.solves} solves, {result.trips} solver trips, "
@@ -175,5 +193,5 @@ def write_trade_report(result: TradeResult, out) -> dict:
     return {"csv": csv_path, "markdown": md, "figures": figures}
 
 
-__all__ = ["front_figure", "parallel_figure", "write_csv", "markdown", "write_trade_report", "trade_folder",
+__all__ = ["front_figure", "parallel_figure", "csv_header", "write_csv", "markdown", "write_trade_report", "trade_folder",
            "TRADE_FILES"]

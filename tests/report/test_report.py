@@ -340,3 +340,8 @@ def test_every_shipped_design_report_builds_and_equals_evaluate(tmp_path, name):
             assert t["db"] == pytest.approx(u["db"], rel=1e-12, abs=1e-12), (name, t["term"])
     for f in ("report.md", "report.html", "report.json"):
         assert (tmp_path / f).stat().st_size > 0
+    # every figure written is shown in both documents
+    md, html = (tmp_path / "report.md").read_text(), (tmp_path / "report.html").read_text()
+    for png in (tmp_path / "figures").glob("*.png"):
+        f = png.relative_to(tmp_path).as_posix()
+        assert f"]({f})" in md and f'src="{f}"' in html, (name, f)

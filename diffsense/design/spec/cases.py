@@ -24,6 +24,7 @@ from typing import Dict, Mapping, Set
 
 from diffsense.design.spec.common import (DESCRIBE_HINT, clean_message, closest, echo, key_text, optional_table,
                                           unknown_parameter)
+from diffsense.design.spec.fidelity import fast_options, read_fidelity
 from diffsense.design.spec.types import DEFAULT_CASE
 from diffsense.errors import DomainError, SpecError
 from diffsense.scene import CHAINS, Scene, chain_for, sensor_kinds
@@ -43,6 +44,8 @@ class Cases:
     overrides: Dict[str, Dict]  # case -> raw parameter values of its table
     parameters: Dict[str, Dict[str, Param]]
     outputs: Dict[str, Dict[str, Output]]
+    fidelity: str = "exact"  # options.fidelity (:mod:`.fidelity`)
+    fidelity_switched: Dict[str, str] = None  # options the fast fidelity changed -> their value
 
     @property
     def all_parameters(self) -> Set[str]:
@@ -105,19 +108,25 @@ def read_options(file, raw: Mapping, sensor: str) -> dict:
     known = CHAINS[sensor].options
     for name, value in options.items():
         key = f"options.{key_text(name)}"
+        if name == "fidelity":  # the spec's model choices, not a chain option (:mod:`.fidelity`)
+            continue
         if name not in known:
             raise SpecError(file, key, f"unknown option of a {sensor} scene{closest(name, known)}; options: "
-                            f"{', '.join(sorted(known))} ({DESCRIBE_HINT.format(kind=sensor)})")
+                            f"{', '.join(sorted(known))}, fidelity ({DESCRIBE_HINT.format(kind=sensor)})")
         default, allowed = known[name]
         if allowed and not any(type(value) is type(a) and value == a for a in allowed):
             raise SpecError(file, key, f"must be one of {', '.join(echo(a) for a in allowed)} "
                             f"(default {echo(default)}); got {echo(value)}")
-    return options
+    return {k: v for k, v in options.items() if k != "fidelity"}
 
 
 def read_cases(file, raw: Mapping, sensor: str) -> Cases:
     """The scenes of every case (``parts``, ``[options]``, ``[cases]``) and their chain tables."""
     options = read_options(file, raw, sensor)
+    fidelity = read_fidelity(file, raw.get("options", {}))
+    switched = {}
+    if fidelity == "fast":
+        options, switched = fast_options(sensor, options)
     base_parts = check_parts(file, "parts", sensor, raw.get("parts", []))
     base_scene = _scene(file, "parts", sensor, base_parts, options)
     chain = chain_for(base_scene)
@@ -136,6 +145,6 @@ def read_cases(file, raw: Mapping, sensor: str) -> Cases:
     if not cases_raw:
         scenes[DEFAULT_CASE] = base_scene
         overrides[DEFAULT_CASE] = {}
-    return Cases(sensor, base_scene, scenes, overrides,
+    return Cases(sensor, base_scene, scenes, overrides, fidelity=fidelity, fidelity_switched=switched,
                  parameters={c: chain.parameters(s) for c, s in scenes.items()},
                  outputs={c: chain.outputs(s) for c, s in scenes.items()})

@@ -102,7 +102,8 @@ def parse_spec(raw: Mapping, path="<spec>") -> Spec:
                 sensor, cases.scenes, fixed, variables, choices, requirements, objective,
                 cases.parameters, cases.outputs, trade=read_trade(file, raw, cases, chosen),
                 uncertain=uncertain,
-                case_overrides={c: frozenset(o) for c, o in cases.overrides.items()})
+                case_overrides={c: frozenset(o) for c, o in cases.overrides.items()},
+                fidelity=cases.fidelity, fidelity_switched=dict(cases.fidelity_switched or {}))
     check_trade(file, spec)
     check_counts(file, spec)
     check_work(file, spec)

@@ -103,6 +103,10 @@ class Spec:
     #: case -> names of the parameters its own ``[cases.<name>]`` table sets (the rest of a
     #: case's fixed values come from ``[fixed]`` or the chain's defaults, shared by the cases)
     case_overrides: Dict[str, frozenset] = field(default_factory=dict)
+    #: ``options.fidelity`` ("exact" or "fast", :mod:`diffsense.design.spec.fidelity`) and the
+    #: options the fast fidelity set (option -> value; empty for "exact")
+    fidelity: str = "exact"
+    fidelity_switched: Dict[str, str] = field(default_factory=dict)
 
     @property
     def cases(self) -> List[str]:

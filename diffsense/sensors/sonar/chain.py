@@ -136,9 +136,9 @@ class SonarChain(Chain):
         ps = [
             Param("range_m", "m", "range to the target R", lo=_RANGE_BRACKET_M[0], hi=_RANGE_BRACKET_M[1]),
             Param("freq_hz", "Hz", "acoustic (centre) frequency", lo=f_lo, hi=f_hi),
-            Param("beamwidth_az_deg", "degree", "horizontal (azimuth) 3 dB beamwidth; ITC-5202 1.5° (book Table 12.1)",
+            Param("beamwidth_az_deg", "deg", "horizontal (azimuth) 3 dB beamwidth; ITC-5202 1.5° (book Table 12.1)",
                   default=1.5, lo=0.0, hi=180.0, lo_open=True),
-            Param("beamwidth_el_deg", "degree", "vertical (elevation) 3 dB beamwidth; ITC-5202 60° (book Table 12.1)",
+            Param("beamwidth_el_deg", "deg", "vertical (elevation) 3 dB beamwidth; ITC-5202 60° (book Table 12.1)",
                   default=60.0, lo=0.0, hi=180.0, lo_open=True),
             Param("receive_sensitivity_db", "dB", "open-circuit receive response M, dB re 1 V/µPa; ITC-5202 −180 dB (book §12.8)",
                   default=-180.0, lo=-300.0, hi=0.0),
@@ -229,7 +229,7 @@ class SonarChain(Chain):
             else:
                 ps.append(Param("wind_speed_knots", "knot", "wind speed for Chapman-Harris", default=10.0,
                                 lo=0.0, lo_open=True, hi=30.0, part="surface_reverberation"))
-                ps.append(Param("surface_grazing_angle_deg", "degree", "grazing angle at the sea surface",
+                ps.append(Param("surface_grazing_angle_deg", "deg", "grazing angle at the sea surface",
                                 default=10.0, lo=0.0, lo_open=True, hi=60.0, part="surface_reverberation"))
         if scene.has("bottom_reverberation"):
             if self.option(scene, "bottom_scattering") == "constant":
@@ -239,7 +239,7 @@ class SonarChain(Chain):
             else:
                 ps.append(Param("lambert_mu_db", "dB", "Lambert parameter 10 log10 μ (Mackenzie 1961: −27 dB)",
                                 default=-27.0, lo=-60.0, hi=0.0, part="bottom_reverberation"))
-                ps.append(Param("bottom_grazing_angle_deg", "degree", "grazing angle at the sea floor",
+                ps.append(Param("bottom_grazing_angle_deg", "deg", "grazing angle at the sea floor",
                                 default=10.0, lo=0.0, lo_open=True, hi=90.0, part="bottom_reverberation"))
         if scene.has("volume_reverberation"):
             ps.append(Param("volume_scattering_strength_db", "dB", "volume scattering strength S_v (book §8.15.2: ≈ −80 dB)",

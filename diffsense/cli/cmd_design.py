@@ -164,6 +164,9 @@ def optimize(
     record["findings"] = findings
     print_findings(findings, reporter)
     exact_ok = True
+    if model.spec.fidelity == "fast" and not model.spec.fidelity_switched:
+        reporter.info("fidelity fast: no faster model choice of this spec is within the atlas's bound "
+                      "(docs/speed_accuracy.md); the exact models were used")
     if model.spec.fidelity_switched:
         with reporter.step("re-evaluating with the exact models"):
             check = exact_recheck(model, result.x, result.combo_index, record["requirements"])

@@ -29,6 +29,12 @@ Approximations (their measured error over the acceptance grid is tabulated in th
   1 <= N <= 100 (only that domain is accepted), stated error ~0.5 dB. Measured against the
   40-digit reference: Swerling 0 ≤ 0.30 dB, Swerling 4 ≤ 0.40 dB, Swerling 3 ≤ 0.67 dB,
   Swerling 1 and 2 ≤ 1.04 dB (worst at Pd = 0.1, N = 1 and at Pd = 0.99, N ≥ 20).
+* ``"barton"`` — Barton's universal equations (IEEE T-AES 41(3), 2005; *Radar Equations for
+  Modern Radar*, 2013, ch. 4), Swerling 0-4: North's single-pulse approximation with Barton's
+  integration loss for a steady target, the chi-square equation with ne independent samples
+  for a fluctuating one (exact for Swerling 2). Domain 0.1 <= Pd <= 0.999, 1e-12 <= Pfa <= 1e-2,
+  1 <= N <= 100 (only that domain is accepted); formulas and measured errors in
+  :mod:`diffsense.detection.barton`.
 
 The book's integration rule (Brooker 8.16.13): a postdetection integration gain of G dB takes
 N = 10^(G/8) pulses (gain 8 log10 N, i.e. N^0.8), plus 7 more pulses for the SDLA (linear/log)
@@ -49,6 +55,7 @@ from diffsense.errors import DomainError
 from diffsense.numerics.db import DB_PER_NEPER, db10, from_db10
 from diffsense.detection._bounds import tail_exponent
 from diffsense.detection._domain import admit, guard
+from diffsense.detection.barton import barton_snr_db
 from diffsense.detection.core import SWERLING_CASES, _chunked, _mixture_sum, pd_given_threshold
 from diffsense.detection.probability import N_RANGE, PFA_RANGE, saturation_db
 from diffsense.detection.threshold import _threshold, _threshold_tangents
@@ -140,7 +147,12 @@ def _solve(pd_t, pfa, n, swerling, t=None, partials=None):
         return x_new, lo, hi, jnp.where(done, 0.0, jnp.abs(x_new - x)), it + 1, kept
 
     def cond(s):
-        return (s[4] < _MAX_ITER) & jnp.any(s[3] > _TOL_DB)
+        # a step below 1024 roundings of x (1024 eps (|x| + 1) dB) ends it too: in float32 the
+        # 1e-11 dB step is far below the resolution of x and the loop would run all _MAX_ITER
+        # trips (float32 error after this stop: <= 4e-5 dB against float64 on Pd 0.1-0.999,
+        # Pfa 1e-12-1e-2, N 1-100; float64 is unchanged below 43 dB, where 1e-11 dB is larger)
+        tol = jnp.maximum(_TOL_DB, 1024.0 * jnp.finfo(s[0].dtype).eps * (jnp.abs(s[0]) + 1.0))
+        return (s[4] < _MAX_ITER) & jnp.any(s[3] > tol)
 
     lo0 = jnp.full_like(x0, -lim)
     hi0 = jnp.full_like(x0, lim)
@@ -236,7 +248,8 @@ def required_snr_db(pd, pfa, n=1, swerling=0, method="exact"):
         pfa: false-alarm probability, 1e-300 ... 0.5.
         n: pulses integrated noncoherently, real 1 ... 1e4 (exact method).
         swerling: 0 (=5), 1, 2, 3, 4 — static.
-        method: ``"exact"`` (default), ``"albersheim"`` or ``"shnidman"`` — static.
+        method: ``"exact"`` (default), ``"albersheim"``, ``"shnidman"`` or ``"barton"`` — static
+            (each approximation accepts only the domain the module docstring states for it).
 
     Returns:
         The detectability factor in dB, between about -230 dB (Pd barely above Pfa) and
@@ -278,8 +291,10 @@ def required_snr_db(pd, pfa, n=1, swerling=0, method="exact"):
         return albersheim_snr_db(pd, pfa, n)
     if method == "shnidman":
         return shnidman_snr_db(pd, pfa, n, swerling)
+    if method == "barton":
+        return barton_snr_db(pd, pfa, n, swerling)
     if method != "exact":
-        raise ValueError(f"{where}: method must be 'exact', 'albersheim' or 'shnidman'; got {method!r}")
+        raise ValueError(f"{where}: method must be 'exact', 'albersheim', 'shnidman' or 'barton'; got {method!r}")
     dtype = jnp.result_type(pd, pfa, n, float)
     pd_t, pfa, n = jnp.broadcast_arrays(*(jnp.asarray(a, dtype=dtype) for a in (pd, pfa, n)))
     ok, _ = admit(where, [("pfa", pfa, *PFA_RANGE), ("n", n, *N_RANGE), ("pd", pd_t, 0.0, 1.0 - 1e-12, True, False)],

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import diffsense  # noqa: F401
+from diffsense.design import programs as design_programs
 from diffsense.design.model import DesignModel
 from diffsense.design.optimizer import optimize_design
 from diffsense.design.spec import load_spec
@@ -19,10 +20,12 @@ from diffsense.optimize import programs as P
 from helpers.paths import DESIGNS, REPO
 
 
-def test_every_step_of_the_optimiser_runs_through_one_compiled_lane_program():
+def test_every_step_of_the_optimiser_runs_through_one_compiled_lane_program(monkeypatch):
     # the ore-pass design takes every step: 10 catalog combinations, an integer pulse count
     # (neighbours), two requirements over an interval (search rounds, dense re-checks) and a flat
-    # optimum (the canonical stage with its pinned-lane linearisations)
+    # optimum (the canonical stage with its pinned-lane linearisations). Programs are shared by
+    # the models of one structure in a process: start without those another test built.
+    monkeypatch.setattr(design_programs, "_SHARED", {})
     model = DesignModel(load_spec(DESIGNS / "ore_pass.toml"))
     before = dict(P.COMPILATIONS)
     opt = optimize_design(model, n_starts=2, seed=0)

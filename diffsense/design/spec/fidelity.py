@@ -22,7 +22,9 @@ from diffsense.scene import CHAINS, Scene
 
 FIDELITY_VALUES = ("exact", "fast")
 
-#: sensor -> option -> (fast value, the atlas family and bound that admit it)
+#: sensor -> option -> (fast value, the atlas family and bound that admit it). Empty: on the
+#: atlas no faster model choice stays within 0.01 dB (0.01 dB/km) over its family's domain
+#: (docs/speed_accuracy.md), so "fast" keeps every exact choice until one does.
 FAST_OPTIONS: Dict[str, Dict[str, Tuple[str, str]]] = {}
 
 

@@ -36,7 +36,8 @@ clutter, jamming, detection range and tracking, built from a static
    (the multipath geometry's relation) with the model of option ``sea_clutter_model``; the wall
    clutter seen through the beam on its sidelobe floor; a noise jammer adds J to N (book §9.10).
 3. detection (:mod:`~diffsense.sensors.radar.detectability`) — the required SNR of option
-   ``detectability`` ("exact", "book" or "given"), Pd, and the detection margin
+   ``detectability`` ("exact", "book", "given", or the closed forms "shnidman", "albersheim",
+   "barton"), Pd, and the detection margin
 
        m(R) = −10 log10( 10^((SNR_req − SJNR(R))/10) + 10^((SCR_req − SCR(R))/10) )   (dB),
 

@@ -16,6 +16,13 @@ Detectability (static option ``detectability``):
 * ``"given"`` — the per-pulse requirement is the parameter ``detectability_db`` (read from the
   book's charts, e.g. 15.2 + 8 − 15 = 8.2 dB in §9.9.1.1); no Pd model, so ``pd`` and the
   integration outputs are not produced.
+* ``"shnidman"``, ``"albersheim"``, ``"barton"`` — as ``"exact"``, with the requirement from the
+  closed-form approximation ``required_snr_db(..., method=...)`` (Shnidman 2002: Swerling 0-4,
+  0.1 ≤ Pd ≤ 0.99, 1e-9 ≤ Pfa ≤ 1e-3, N ≤ 100; Albersheim 1981: Swerling 0 only, 0.1 ≤ Pd ≤ 0.9,
+  1e-7 ≤ Pfa ≤ 1e-3; Barton 2005: Swerling 0-4, 0.1 ≤ Pd ≤ 0.999, 1e-12 ≤ Pfa ≤ 1e-2, N ≤ 100;
+  NaN outside, and Albersheim with a fluctuating target is refused). Their errors against the
+  exact value are in :mod:`diffsense.detection.required_snr` and :mod:`diffsense.detection.barton`.
+  ``pd`` stays the exact Pd for N pulses: only the requirement is approximated.
 
 Detection margin (dB): detection needs ``S/(N + J) ≥ SNR_req`` and ``S/C ≥ SCR_req``; the
 smooth combined criterion
@@ -47,6 +54,9 @@ USES_REQUIRED_SNR = ("required_snr_db", "snr_margin_db", "faded_snr_margin_db", 
                      "detection_range_m", "detection_range_found", "burn_through_range_m")
 #: domain of diffsense.detection.pd (dB); Pd is 0 or 1 to float64 outside
 _PD_SNR_DB = (-50.0, 80.0)
+#: values of option ``detectability`` that solve the requirement for N pulses directly, each with
+#: ``diffsense.detection.required_snr_db(..., method=value)``
+SOLVED_METHODS = ("exact", "shnidman", "albersheim", "barton")
 
 
 class Requirement(NamedTuple):
@@ -72,7 +82,8 @@ def required_snr(scene, p, wanted=None) -> Requirement:
     n = p["n_pulses"]
     need_req = needs(wanted, *USES_REQUIRED_SNR)
     need_gain = needs(wanted, "integration_gain_db", "integrated_snr_db")
-    single = lambda: _det.required_snr_db(p["pd"], p["pfa"], jnp.ones_like(n), swerling)
+    method = option(scene, "detectability") if option(scene, "detectability") in SOLVED_METHODS else "exact"
+    single = lambda: _det.required_snr_db(p["pd"], p["pfa"], jnp.ones_like(n), swerling, method=method)
     if coherent or option(scene, "detectability") == "book":
         if coherent:
             gain = db10(n)
@@ -81,8 +92,8 @@ def required_snr(scene, p, wanted=None) -> Requirement:
             gain = _det.book_integration_gain_db(jnp.maximum(n_eff, 1.0))
         req1 = single() if need_req or needs(wanted, "pulses_needed") else None
         return Requirement(req1 - gain if need_req else None, gain, req1)
-    # exact, noncoherent: the requirement for N pulses is solved directly
-    reqn = _det.required_snr_db(p["pd"], p["pfa"], n, swerling) if need_req or need_gain else None
+    # exact (or an approximation of it), noncoherent: the requirement for N pulses directly
+    reqn = _det.required_snr_db(p["pd"], p["pfa"], n, swerling, method=method) if need_req or need_gain else None
     req1 = single() if need_gain else None
     return Requirement(reqn, req1 - reqn if need_gain else None, req1)
 
@@ -116,7 +127,8 @@ def pd_outputs(scene, p, wanted, snr_db, sjnr_db, req: Requirement):
     if option(scene, "detectability") == "given":
         return values
     swerling = option(scene, "swerling")
-    exact_noncoherent = option(scene, "detectability") == "exact" and option(scene, "integration") == "noncoherent"
+    exact_noncoherent = (option(scene, "detectability") in SOLVED_METHODS
+                         and option(scene, "integration") == "noncoherent")
     if needs(wanted, "pd"):
         n = p["n_pulses"]
         if exact_noncoherent:

@@ -112,6 +112,9 @@ def specific_attenuations_db_km(scene, p):
         if option(scene, "gas_model") == "itu_p676":
             alphas["gas"] = parts.gas_itu_attenuation_db_km(p["freq_hz"], p["pressure_hpa"], p["air_temperature_k"],
                                                             p["water_vapour_g_m3"])
+        elif option(scene, "gas_model") == "itu_p676_approx":
+            alphas["gas"] = parts.gas_itu_approx_attenuation_db_km(p["freq_hz"], p["pressure_hpa"], p["air_temperature_k"],
+                                                             p["water_vapour_g_m3"])
         else:
             alphas["gas"] = parts.gas_given_attenuation_db_km(p["gas_attenuation_db_km"])
     if scene.has("rain"):

@@ -74,7 +74,7 @@ def _detectability_parameters(scene):
 def _path_parameters(scene):
     """Gas, rain, fog and dust on the path (and the inputs they share with clutter)."""
     ps = []
-    itu_gas = scene.has("gas") and option(scene, "gas_model") == "itu_p676"
+    itu_gas = scene.has("gas") and option(scene, "gas_model") in ("itu_p676", "itu_p676_approx")
     if itu_gas:
         ps += [
             Param("pressure_hpa", "hPa", "total air pressure (ITU-R P.676 standard 1013.25)", 1013.25, 100.0, 1200.0, part="gas"),

@@ -19,7 +19,7 @@ from diffsense.physics.propagation.dust import (
     dust_mass_loading_g_m3,
     dust_radar_attenuation_db_per_km,
 )
-from diffsense.physics.propagation.gas import gas_attenuation_db_per_km
+from diffsense.physics.propagation.gas import gas_attenuation_approx_db_per_km, gas_attenuation_db_per_km
 from diffsense.physics.propagation.rain import rain_attenuation_db_per_km
 from diffsense.sensors.parts import scene_part
 from diffsense.sensors.radar import equation as eq
@@ -56,6 +56,13 @@ __all__ = [
 def gas_itu_attenuation_db_km(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3):
     """One-way specific attenuation of gases (dB/km), ITU-R P.676-12."""
     return gas_attenuation_db_per_km(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3)
+
+
+@scene_part("gas")
+def gas_itu_approx_attenuation_db_km(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3):
+    """One-way specific attenuation of gases (dB/km), the closed forms of ITU-R P.676-10 Annex 2
+    (option ``gas_model="itu_p676_approx"``)."""
+    return gas_attenuation_approx_db_per_km(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3)
 
 
 @scene_part("gas")

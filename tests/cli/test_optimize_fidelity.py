@@ -1,0 +1,53 @@
+"""``diffsense optimize`` of a ``fidelity = "fast"`` spec re-evaluates its answer with the exact
+models and reports the difference of every requirement."""
+
+import json
+
+import pytest
+
+from diffsense.design.spec import load_spec
+from diffsense.design.spec import fidelity as fid
+from helpers.paths import REPO
+
+NAV = REPO / "tests" / "design" / "trade_specs" / "navigation_radar.toml"
+
+
+@pytest.fixture
+def shnidman_is_fast(monkeypatch):
+    monkeypatch.setattr(fid, "FAST_OPTIONS", {"radar": {"detectability": ("shnidman", "test")}})
+
+
+def test_optimize_re_evaluates_a_fast_answer_with_the_exact_models(shnidman_is_fast, run_cli, tmp_path):
+    spec = tmp_path / "nav_fast.toml"
+    spec.write_text(NAV.read_text().replace('detectability = "exact"\n', 'fidelity = "fast"\n'))
+    code, out, err = run_cli("optimize", spec, "--starts", 2, "--json", tmp_path / "o.json")
+    assert code in (0, 3), err
+    rec = json.loads((tmp_path / "o.json").read_text())
+    check = rec["exact_check"]
+    assert check["switched"] == {"detectability": "shnidman"}
+    # independently: the exact spec evaluated at the same design
+    from diffsense.design.model import DesignModel
+    from diffsense.design.record import design_record
+
+    exact = DesignModel(fid.exact_spec(load_spec(spec)))
+    x = [rec["design"][n]["value"] for n in exact.variable_names]
+    combo = exact.combo_index(rec["choices"])
+    truth = design_record(exact, x, combo)["requirements"]
+    for r, t, f in zip(check["requirements"], truth, rec["requirements"]):
+        assert r["exact"] == pytest.approx(t["value"], rel=1e-9, abs=1e-9)
+        assert r["fast"] == pytest.approx(f["value"], rel=1e-12, abs=1e-12)
+        assert r["met"] == t["met"]
+    # Shnidman's equation differs from the exact detectability: the margins move, the others do not
+    assert abs(check["requirements"][0]["difference"]) > 1e-4
+    assert check["requirements"][2]["difference"] == 0.0  # the beamwidth
+    assert "re-evaluated with the exact models" in " ".join(out.split())
+
+
+def test_fast_without_an_atlas_approved_choice_says_the_exact_models_were_used(run_cli, tmp_path):
+    assert fid.FAST_OPTIONS.get("radar", {}) == {}  # the atlas admits no radar model choice at 0.01 dB
+    spec = tmp_path / "nav_fast.toml"
+    spec.write_text(NAV.read_text().replace('detectability = "exact"\n', 'fidelity = "fast"\n'))
+    code, out, err = run_cli("optimize", spec, "--starts", 1, "--json", tmp_path / "o.json")
+    assert code == 0, err
+    assert "fidelity fast: no faster model choice of this spec is within the atlas's bound" in " ".join(out.split())
+    assert "exact_check" not in json.loads((tmp_path / "o.json").read_text())

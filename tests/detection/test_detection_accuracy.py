@@ -12,6 +12,19 @@ from diffsense import detection as det
 from tests.reference import mp_detection as ref
 
 
+@pytest.fixture(autouse=True, scope="module")
+def _in_memory_compilation_only():
+    # This module calls the detection functions eagerly, one small program per primitive and
+    # shape. Reading those programs back from the session's persistent compilation cache crashed
+    # the pytest worker inside XLA's executable deserialisation (three CI runs, always at
+    # required_snr_db(…, 100 pulses, Pfa 0.1, Swerling 4); not reproducible alone): compile them
+    # in memory here. The jitted programs of every other test still use the persistent cache.
+    saved = jax.config.jax_enable_compilation_cache
+    jax.config.update("jax_enable_compilation_cache", False)
+    yield
+    jax.config.update("jax_enable_compilation_cache", saved)
+
+
 def test_classic_required_snr_values():
     # DiFranco & Rubin / Skolnik: Pd 0.9, Pfa 1e-6, N 1 -> 13.18 dB steady, 21.14 dB Swerling 1
     assert float(det.required_snr_db(0.9, 1e-6, 1, 0)) == pytest.approx(13.18, abs=0.005)

@@ -12,17 +12,12 @@ from diffsense import detection as det
 from tests.reference import mp_detection as ref
 
 
-@pytest.fixture(autouse=True, scope="module")
-def _in_memory_compilation_only():
-    # This module calls the detection functions eagerly, one small program per primitive and
-    # shape. Reading those programs back from the session's persistent compilation cache crashed
-    # the pytest worker inside XLA's executable deserialisation (three CI runs, always at
-    # required_snr_db(…, 100 pulses, Pfa 0.1, Swerling 4); not reproducible alone): compile them
-    # in memory here. The jitted programs of every other test still use the persistent cache.
-    saved = jax.config.jax_enable_compilation_cache
-    jax.config.update("jax_enable_compilation_cache", False)
-    yield
-    jax.config.update("jax_enable_compilation_cache", saved)
+# The grid tests call the detection functions through one jitted program per Swerling case (the
+# numbers are arguments), not eagerly: read back from the session's persistent compilation cache,
+# the eager programs of required_snr_db (a while_loop per primitive call) crashed the pytest worker
+# inside XLA's executable deserialisation in four CI runs, always at 100 pulses, Pfa 0.1, Swerling 4.
+_required_snr_db = jax.jit(det.required_snr_db, static_argnums=(3,))
+_pd = jax.jit(det.pd, static_argnums=(3,))
 
 
 def test_classic_required_snr_values():
@@ -61,9 +56,9 @@ def _grid_params(quick, slow):
 @pytest.mark.parametrize("swerling,n,pfa", _grid_params(QUICK_GRID, SLOW_GRID))
 def test_pd_matches_mpmath_reference(swerling, n, pfa):
     # SNRs across the transition: required SNR for Pd 0.1, 0.5, 0.9, 0.999 and two far points
-    x50 = float(det.required_snr_db(0.5, pfa, n, swerling))
+    x50 = float(_required_snr_db(0.5, pfa, n, swerling))
     snrs = np.array([x50 - 15.0, x50 - 3.0, x50, x50 + 3.0, x50 + 8.0, x50 + 25.0])
-    got = np.asarray(det.pd(snrs, pfa, n, swerling))
+    got = np.asarray(_pd(snrs, pfa, n, swerling))
     want = np.array([float(ref.pd_mp(mp.mpf(10) ** (mp.mpf(s) / 10), pfa, n, swerling, dps=40)) for s in snrs])
     assert np.max(np.abs(got - want)) <= 1e-12
 
@@ -76,7 +71,7 @@ def test_required_snr_matches_mpmath(swerling, n, pfa):
     for p in (0.1, 0.9, 0.999):
         if p <= pfa:
             continue
-        got = float(det.required_snr_db(p, pfa, n, swerling))
+        got = float(_required_snr_db(p, pfa, n, swerling))
         want = float(ref.required_snr_mp(p, pfa, n, swerling, dps=40))
         assert abs(got - want) <= 1e-6
 

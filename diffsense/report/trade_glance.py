@@ -46,14 +46,20 @@ def requirement_lines(result: TradeResult) -> List[str]:
     return rows
 
 
-def bound_warnings(result: TradeResult) -> List[str]:
-    """A variable on the same bound at every point of the front."""
-    n = len(result.points)
+def bound_counts(result: TradeResult) -> dict:
+    """``{"<variable> at its lower/upper bound": points of the front where it is}``."""
     counts = {}
     for p in result.points:
         for b in p["on_bounds"]:
             counts[b] = counts.get(b, 0) + 1
-    return [f"{b} at every point of the front: the bound, not the trade, sets it" for b, c in counts.items() if c == n]
+    return counts
+
+
+def bound_warnings(result: TradeResult, counts=None) -> List[str]:
+    """A variable on the same bound at every point of the front."""
+    counts = bound_counts(result) if counts is None else counts
+    return [f"{b} at every point of the front: the bound, not the trade, sets it"
+            for b, c in counts.items() if c == len(result.points)]
 
 
 def glance_markdown(result: TradeResult) -> List[str]:
@@ -67,10 +73,7 @@ def glance_markdown(result: TradeResult) -> List[str]:
     sets = []
     active = [r.name for r in model.requirements if any(r.name in p["active"] for p in result.points)]
     sets.append("Active requirements somewhere on the front: " + ("; ".join(active) if active else "none"))
-    counts = {}
-    for p in result.points:
-        for b in p["on_bounds"]:
-            counts[b] = counts.get(b, 0) + 1
+    counts = bound_counts(result)
     if counts:
         sets.append("Variables on a bound: " + "; ".join(f"{b} ({c} of {len(result.points)} points)"
                                                          for b, c in counts.items()))
@@ -81,7 +84,7 @@ def glance_markdown(result: TradeResult) -> List[str]:
     lines += ["### What sets the front", ""] + [f"- {s}" for s in sets] + [""]
     probe = result.points[result.knee if result.knee is not None else 0]
     fixed = fixed_requirements(model, probe["x"], probe["combo_index"])
-    warns = bound_warnings(result)
+    warns = bound_warnings(result, counts)
     warns += [f"requirement '{model.requirements[j].name}' does not depend on any variable: it is a check, "
               "not a constraint" for j in fixed]
     d = result.dropped
@@ -95,4 +98,4 @@ def glance_markdown(result: TradeResult) -> List[str]:
     return lines
 
 
-__all__ = ["glance_markdown", "requirement_lines", "bound_warnings"]
+__all__ = ["glance_markdown", "requirement_lines", "bound_counts", "bound_warnings"]

@@ -7,11 +7,12 @@ or typing a fixed value only changes the numbers fed to the same compiled progra
 ``diffsense evaluate``, ``optimize`` and ``report`` use for the same spec
 (:mod:`diffsense.design.programs`, kept on disk between runs):
 
-* :meth:`ExplorerProgram.quick` — the *outputs* program (every case's outputs, the requirements,
-  the objective) with the interval requirements' values left NaN ("pending"), so that the page
-  shows its numbers before the search program is compiled;
+* :meth:`ExplorerProgram.quick` — the *check* program (each case's budget and the outputs the
+  requirements and the objective read, the requirements, the objective: the smallest program of
+  a spec, compiled first) with the interval requirements' values left NaN ("pending"), so that
+  the page shows its numbers before the other programs are compiled;
 * :meth:`ExplorerProgram.core` — the interval requirements' worst points by the *search*
-  program, then the outputs program at them;
+  program, then the *outputs* program (every output of every case) at them;
 * :meth:`ExplorerProgram.extras` — ``sweeps``: per case with a numeric ``range_m`` input, the
   outputs ``snr_db``, ``required_snr_db``, ``pd`` and the main detection margin
   (:func:`diffsense.report.sweeps.main_margin`) on a grid of ranges (m); ``intervals``: per
@@ -100,7 +101,7 @@ class ExplorerProgram:
         """Begin compiling the program of the first numbers (:meth:`quick`) in a background
         thread; the others compile on first use (:meth:`core`, :meth:`extras`), which the page
         asks for after it is shown."""
-        self.model.programs.start("outputs")
+        self.model.programs.start("check")
 
     def _inputs(self, v, combo_index: int):
         inputs = self.model.inputs(combo_index, values=np.asarray(v, dtype=float))
@@ -108,16 +109,17 @@ class ExplorerProgram:
             inputs = inputs._replace(points=self._points)
         return inputs
 
-    def _values(self, v, inputs) -> dict:
-        ev, _, req, obj = self.model.programs.values_rows(np.asarray(v, dtype=float)[None, :], inputs, full=True)
+    def _values(self, v, inputs, full: bool = True) -> dict:
+        ev, _, req, obj = self.model.programs.values_rows(np.asarray(v, dtype=float)[None, :], inputs, full=full)
         first = lambda tree: jax.tree_util.tree_map(lambda a: np.asarray(a)[0], tree)  # noqa: E731
         return {"evaluations": first(ev), "requirements": np.asarray(req[0], dtype=float),
                 "objective": float(np.asarray(obj)[0])}
 
     def quick(self, v, combo_index: int) -> dict:
-        """Evaluations, requirement values and objective at input vector ``v`` with the
-        interval requirements' values NaN (no search)."""
-        out = self._values(v, self._inputs(v, combo_index))
+        """Evaluations (each case's budget and the outputs the requirements and the objective
+        read), requirement values and objective at input vector ``v`` with the interval
+        requirements' values NaN (no search)."""
+        out = self._values(v, self._inputs(v, combo_index), full=False)
         out["requirements"] = out["requirements"].copy()
         out["requirements"][self.model.intervals.indices] = np.nan
         return out

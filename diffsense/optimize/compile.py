@@ -37,6 +37,13 @@ def compiler_options(preset: str = "optimized") -> dict:
     return dict(_ACCEPTED[preset])
 
 
+def preset_options(preset: str = "optimized") -> dict:
+    """The XLA options a preset asks for, unchecked (what a program compiled with the preset
+    was compiled with when :func:`compiler_options` accepted them)."""
+    check_choice("preset", preset, tuple(_COMPILE_PRESETS), where="preset_options")
+    return dict(_COMPILE_PRESETS[preset])
+
+
 def jit_with_options(fn, preset: str = "optimized", **jit_kwargs):
     """``jax.jit(fn, **jit_kwargs)`` with the XLA options of ``preset`` (see
     :func:`compiler_options`); plain ``jax.jit`` on JAX versions without ``compiler_options``."""
@@ -62,4 +69,4 @@ def call_compiling_alongside(jitted, args, alongside):
     return executable(*args)
 
 
-__all__ = ["compiler_options", "jit_with_options", "call_compiling_alongside"]
+__all__ = ["compiler_options", "preset_options", "jit_with_options", "call_compiling_alongside"]

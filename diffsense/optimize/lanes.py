@@ -26,6 +26,8 @@ group (a catalog option, a start's neighbours).
 
 from __future__ import annotations
 
+import concurrent.futures
+import os
 from typing import Any, NamedTuple, Optional, Union
 
 import jax
@@ -117,29 +119,49 @@ def make_lane_solver(problem: Problem, options: SolverOptions = SolverOptions(),
     return jit_with_options(lane_program(problem, options, lockstep), compile)
 
 
-def solve_in_batches(solver, batch: int, *columns, alongside=None):
+def solve_in_batches(solver, batch: int, *columns, alongside=None, threads: Optional[int] = None):
     """``solver(*columns)`` over the rows of ``columns`` (pytrees whose leaves have a leading
     row axis) in calls of exactly ``batch`` rows, the last one padded by repeating its final
     row, so every call reuses the program compiled for the first. With ``alongside``, the
     first call's compilation runs in a background thread while this thread calls
     ``alongside()`` (:func:`diffsense.optimize.compile.call_compiling_alongside`). Returns the
-    outputs as NumPy arrays, one row per input row."""
+    outputs as NumPy arrays, one row per input row.
+
+    The first call runs here (it compiles the program when needed); the others run on
+    ``threads`` threads (default: the cores this process may use, :func:`worker_count`): a
+    compiled program runs without Python's global interpreter lock, so on a 2-core machine two
+    batches run at once. Each batch's answer does not depend on which thread ran it."""
     n = int(jax.tree_util.tree_leaves(columns)[0].shape[0])
     if n == 0:
         raise DomainError("solve_in_batches: no rows to solve")
-    outs = []
-    for start in range(0, n, batch):
+
+    def call(start, first=False):
         rows = np.arange(start, min(start + batch, n))
         padded = np.concatenate([rows, np.full(batch - rows.size, rows[-1])])
         # host arrays go to the compiled call as they are (jnp.asarray outside a trace would
         # compile a small staging program per shape)
         args = tuple(take(c, padded) for c in columns)
-        if alongside is not None and start == 0:
-            res = call_compiling_alongside(solver, args, alongside)
-        else:
-            res = solver(*args)
-        outs.append(jax.tree_util.tree_map(lambda a, k=rows.size: np.asarray(a)[:k], res))
+        res = call_compiling_alongside(solver, args, alongside) if first and alongside is not None else solver(*args)
+        return jax.tree_util.tree_map(lambda a, k=rows.size: np.asarray(a)[:k], res)
+
+    starts = list(range(0, n, batch))
+    outs = [call(starts[0], first=True)]
+    rest = starts[1:]
+    workers = min(len(rest), worker_count() if threads is None else int(threads))
+    if workers > 1:
+        with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
+            outs += list(pool.map(call, rest))
+    else:
+        outs += [call(s) for s in rest]
     return jax.tree_util.tree_map(lambda *a: np.concatenate(a), *outs)
+
+
+def worker_count() -> int:
+    """The cores this process may run on (its CPU affinity), at least 1."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return max(1, os.cpu_count() or 1)
 
 
 def solve_lanes(solver, lanes: Lanes, batch: Optional[int] = None, alongside=None) -> Result:

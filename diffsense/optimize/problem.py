@@ -36,7 +36,6 @@ from __future__ import annotations
 
 from typing import Any, Callable, Optional, Sequence
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -72,7 +71,14 @@ def default_scales(lower, upper, log_scale) -> np.ndarray:
     return s
 
 
-class Problem(eqx.Module):
+#: the array fields of a :class:`Problem` (pytree children) and its static fields (auxiliary data:
+#: functions and tuples, compared by equality when JAX caches a trace)
+_ARRAYS = ("lower", "upper", "scale", "log_scale")
+_STATIC = ("objective", "inequality", "equality", "integer_indices", "names", "combined", "sizes")
+
+
+@jax.tree_util.register_pytree_node_class
+class Problem:
     """A bound- and inequality/equality-constrained minimisation problem (see module doc).
 
     Arguments
@@ -95,17 +101,19 @@ class Problem(eqx.Module):
     The functions must be pure JAX functions, finite with finite gradients inside the bounds.
     """
 
-    objective: Callable = eqx.field(static=True)
-    inequality: Optional[Callable] = eqx.field(static=True)
-    equality: Optional[Callable] = eqx.field(static=True)
+    __slots__ = _ARRAYS + _STATIC
+
+    objective: Callable
+    inequality: Optional[Callable]
+    equality: Optional[Callable]
     lower: jax.Array
     upper: jax.Array
     scale: jax.Array
     log_scale: jax.Array
-    integer_indices: tuple = eqx.field(static=True)
-    names: Optional[tuple] = eqx.field(static=True)
-    combined: Optional[Callable] = eqx.field(static=True)
-    sizes: Optional[tuple] = eqx.field(static=True)
+    integer_indices: tuple
+    names: Optional[tuple]
+    combined: Optional[Callable]
+    sizes: Optional[tuple]
 
     def __init__(
         self,
@@ -150,19 +158,43 @@ class Problem(eqx.Module):
             names = tuple(str(v) for v in names)
             if len(names) != n:
                 raise DomainError(f"Problem: {len(names)} names for {n} variables")
-        self.objective = objective
-        self.inequality = inequality
-        self.equality = equality
         # NumPy arrays: building a problem stages nothing on a device (traced code reads them as
         # constants; with_bounds puts traced arrays in their place)
-        self.lower = np.asarray(lo, dtype=float)
-        self.upper = np.asarray(hi, dtype=float)
-        self.scale = np.asarray(s, dtype=float)
-        self.log_scale = np.asarray(logm, dtype=bool)
-        self.integer_indices = tuple(int(i) for i in np.flatnonzero(intm))
-        self.names = names
-        self.combined = combined
-        self.sizes = None if sizes is None else (int(sizes[0]), int(sizes[1]))
+        self._set(lower=np.asarray(lo, dtype=float), upper=np.asarray(hi, dtype=float),
+                  scale=np.asarray(s, dtype=float), log_scale=np.asarray(logm, dtype=bool),
+                  objective=objective, inequality=inequality, equality=equality,
+                  integer_indices=tuple(int(i) for i in np.flatnonzero(intm)), names=names, combined=combined,
+                  sizes=None if sizes is None else (int(sizes[0]), int(sizes[1])))
+
+    # ------------------------------------------------------------------ pytree
+    def _set(self, **fields) -> None:
+        for key, value in fields.items():
+            object.__setattr__(self, key, value)
+
+    def __setattr__(self, key, value):
+        raise AttributeError(f"Problem is immutable: use with_bounds or replace, not '{key} = ...'")
+
+    def tree_flatten(self):
+        return tuple(getattr(self, k) for k in _ARRAYS), tuple(getattr(self, k) for k in _STATIC)
+
+    @classmethod
+    def tree_unflatten(cls, static, arrays) -> "Problem":
+        problem = object.__new__(cls)
+        problem._set(**dict(zip(_ARRAYS, arrays)), **dict(zip(_STATIC, static)))
+        return problem
+
+    def replace(self, **fields) -> "Problem":
+        """A copy with the given fields replaced (no checks: arrays may be traced)."""
+        unknown = set(fields) - set(_ARRAYS + _STATIC)
+        if unknown:
+            raise TypeError(f"Problem.replace: no field {sorted(unknown)[0]!r}")
+        arrays, static = self.tree_flatten()
+        copy = type(self).tree_unflatten(static, arrays)
+        copy._set(**fields)
+        return copy
+
+    def __repr__(self) -> str:
+        return f"Problem(n={self.n}, names={self.names})"
 
     # ------------------------------------------------------------------ sizes
     @property
@@ -245,10 +277,9 @@ class Problem(eqx.Module):
         """The same problem with other bounds (and, given, other variable scales); arrays may be
         traced, e.g. under vmap."""
         if scale is None:
-            return eqx.tree_at(lambda p: (p.lower, p.upper), self,
-                               (jnp.asarray(lower, float), jnp.asarray(upper, float)))
-        return eqx.tree_at(lambda p: (p.lower, p.upper, p.scale), self,
-                           (jnp.asarray(lower, float), jnp.asarray(upper, float), jnp.asarray(scale, float)))
+            return self.replace(lower=jnp.asarray(lower, float), upper=jnp.asarray(upper, float))
+        return self.replace(lower=jnp.asarray(lower, float), upper=jnp.asarray(upper, float),
+                            scale=jnp.asarray(scale, float))
 
 
 def check_start(problem: Problem, x0, where: str = "solve") -> None:

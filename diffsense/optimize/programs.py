@@ -11,8 +11,15 @@ numbers, so it is
   of this package and the JAX version. Later processes load the module instead of tracing
   the Python code again (tracing is what a persistent XLA cache never saves);
 * **compiled in a background thread** (XLA compiles without holding Python's lock), so two
-  programs compile on two cores while the main thread traces a third or runs a compiled one; the
-  XLA compilation itself hits JAX's persistent compilation cache when it is configured.
+  programs compile on two cores while the main thread traces a third or runs a compiled one;
+* **kept compiled**: the executable XLA made goes beside the module (``NAME-KEY.xlaexec``, keyed
+  besides by the XLA options, jaxlib, the device and ``XLA_FLAGS``) and a later process loads
+  it directly, without lowering the module again or hashing it for JAX's persistent cache
+  (about a third of a second less per program). Only an executable XLA compiled in this
+  process is stored: one JAX read back from its own persistent cache serialises without the
+  kernels XLA:CPU built for it, and loading that copy would fail when it runs. (The command
+  line therefore switches JAX's own cache off; without an ``.xlaexec`` file the compilation
+  still goes through JAX's cache when one is configured.)
 
 ``<cache>`` is the folder of JAX's persistent compilation cache (``jax_compilation_cache_dir``,
 which the ``diffsense`` command sets from ``DIFFSENSE_CACHE_DIR``); without one, programs are
@@ -39,7 +46,7 @@ from typing import Callable, Dict, Optional
 import jax
 import numpy as np
 
-from diffsense.optimize.compile import compiler_options
+from diffsense.optimize.compile import compiler_options, preset_options
 from diffsense.optimize.result import Conflict, KKTResidual, Result, Scales
 
 _PACKAGE = Path(__file__).resolve().parents[1]
@@ -166,6 +173,8 @@ class Program:
         self.loaded_from_disk = False
         self.export_seconds: Optional[float] = None
         self.compile_seconds: Optional[float] = None
+        #: the executable came from the cache folder (:func:`_load_executable`), not from XLA
+        self.executable_loaded = False
         #: operations in the traced module (StableHLO, before XLA's passes), when traced here
         self.operations: Optional[int] = None
         #: the program needs a derivative JAX lacks (its trace raised NotImplementedError)
@@ -222,12 +231,42 @@ class Program:
         with _LOCK:
             COMPILATIONS[self.name] = COMPILATIONS.get(self.name, 0) + 1
         self._out = (exported.out_tree, [(tuple(a.shape), np.dtype(a.dtype)) for a in exported.out_avals])
-        call = _named(_packing(exported.call) if self.packed else exported.call, self.name)
-        opts = compiler_options(self.preset)
-        jitted = jax.jit(call, compiler_options=opts) if opts else jax.jit(call)
-        compiled = jitted.lower(*self.avals).compile()
+        trees = self._trees(exported)
+        path = self._executable_path()
+        # the options the preset asks for: an executable is stored only when XLA accepted them
+        compiled = None if path is None else _load_executable(path, trees, preset_options(self.preset))
+        self.executable_loaded = compiled is not None
+        if compiled is None:
+            call = _named(_packing(exported.call) if self.packed else exported.call, self.name)
+            opts = compiler_options(self.preset)
+            jitted = jax.jit(call, compiler_options=opts) if opts else jax.jit(call)
+            _HITS.count = 0
+            compiled = jitted.lower(*self.avals).compile()
+            # an executable JAX read from its own persistent cache serialises without the
+            # kernels XLA's CPU backend built for it (loading that copy fails at run time):
+            # only a fresh compilation is kept
+            if path is not None and not _HITS.count and opts == preset_options(self.preset):
+                _store_executable(path, compiled, trees)
         self.compile_seconds = time.perf_counter() - t0
         return compiled
+
+    def _trees(self, exported):
+        """(input tree, output tree) of the compiled program: its arguments and no keywords; one
+        packed vector or the exported function's outputs."""
+        out = jax.tree_util.tree_structure(0.0) if self.packed else exported.out_tree
+        return jax.tree_util.tree_structure((self.avals, {})), out
+
+    def _executable_path(self) -> Optional[Path]:
+        """``<cache>/programs/NAME-KEY.xlaexec``: the compiled executable, keyed by the program's
+        key and everything the machine code depends on besides (XLA options of the preset,
+        jaxlib, platform and device kind, ``XLA_FLAGS``); None without a cache folder."""
+        folder = cache_folder()
+        if folder is None:
+            return None
+        device = jax.devices()[0]
+        text = "\n".join([self.key, repr(preset_options(self.preset)), _jaxlib_version(), device.platform,
+                          device.device_kind, str(jax.device_count()), os.environ.get("XLA_FLAGS", "")])
+        return folder / f"{self.name}-{hashlib.sha256(text.encode()).hexdigest()[:40]}.xlaexec"
 
     def start(self) -> "Program":
         """Export (trace, or load from disk) in this thread and compile in the pool (or here,
@@ -283,6 +322,82 @@ def _packing(call):
                 for a in jax.tree_util.tree_leaves(call(*args))]
         return jax.lax.concatenate(flat, 0) if flat else jax.numpy.zeros((0,))
     return packed
+
+
+#: persistent-cache hits of JAX in the current thread (JAX's monitoring events)
+_HITS = threading.local()
+
+
+def _count_cache_hits(event: str, **kwargs) -> None:
+    if event == "/jax/compilation_cache/cache_hits":
+        _HITS.count = getattr(_HITS, "count", 0) + 1
+
+
+jax.monitoring.register_event_listener(_count_cache_hits)
+
+
+def _jaxlib_version() -> str:
+    try:
+        import jaxlib
+
+        return jaxlib.__version__
+    except (ImportError, AttributeError):
+        return ""
+
+
+def _load_executable(path: Path, trees, options: dict):
+    """The executable stored at ``path`` (:func:`_store_executable`), compiled with the XLA
+    options ``options``, or None when there is none or it cannot be loaded (then it is compiled
+    again and the file replaced). Loading it skips the lowering of the exported module and
+    JAX's persistent-cache lookup (hashing the module), about a third of a second for the
+    solver's program. The file is trusted as JAX's own persistent cache is: it is machine code
+    this package wrote into the user's cache folder."""
+    import io
+
+    from jax._src import compiler
+    from jax.experimental import serialize_executable
+
+    try:
+        data = path.read_bytes()
+    except OSError:
+        return None
+    try:
+        backend = jax.devices()[0].client
+        devices = backend.devices()[:1]
+        compile_options = compiler.get_compile_options(
+            num_replicas=1, num_partitions=1, env_options_overrides=options or None, backend=backend)
+
+        class _Unpickler(serialize_executable._JaxPjrtUnpickler):
+            # the executable is deserialised with the options it was compiled with, as JAX's
+            # persistent cache does: the CPU backend rebuilds its kernels from them
+            def persistent_load(self, pid):
+                if pid[0] == "exec":
+                    return self.backend.deserialize_executable(pid[1], self.execution_devices, compile_options)
+                return super().persistent_load(pid)
+
+        unloaded, args_info_flat, no_kwargs = _Unpickler(io.BytesIO(data), backend, devices).load()
+        in_tree, out_tree = trees
+        return jax.stages.Compiled(unloaded.load(), [], in_tree.unflatten(args_info_flat), out_tree,
+                                   no_kwargs=no_kwargs)
+    except Exception:  # noqa: BLE001 - a stale or damaged file is compiled again
+        return None
+
+
+def _store_executable(path: Path, compiled, trees) -> None:
+    """Keep ``compiled`` at ``path`` (written atomically) when its argument and output trees are
+    those :meth:`Program._trees` will rebuild on loading; a read-only cache is skipped."""
+    from jax.experimental import serialize_executable
+
+    try:
+        data, in_tree, out_tree = serialize_executable.serialize(compiled)
+    except Exception:  # noqa: BLE001 - a backend that cannot serialise compiles each time
+        return
+    if (in_tree, out_tree) != tuple(trees):
+        return
+    try:
+        write_atomically(path, data)
+    except OSError:
+        pass
 
 
 class LazyProgram:

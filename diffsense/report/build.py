@@ -24,6 +24,7 @@ from diffsense.report.interval_figures import interval_caption, interval_margin
 from diffsense.report.batch import BatchEvaluator, row
 from diffsense.design.runner import objective_scale
 from diffsense.report.content import report_blocks
+from diffsense.report.drawing import Drawer
 from diffsense.report.inputs import design_inputs
 from diffsense.report.jacobian import jacobian_section, miss_measured
 from diffsense.report.postoptimal import post_optimal_section
@@ -66,7 +67,8 @@ def report_folder(out_dir, spec_path, force: bool = False) -> OutputFolder:
 
 
 def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8, seed: int = 0,
-                 optimum=None, model: Optional[DesignModel] = None, force: bool = False) -> dict:
+                 optimum=None, model: Optional[DesignModel] = None, force: bool = False,
+                 figure_workers: int = 0) -> dict:
     """Write ``report.md``, ``report.html``, ``report.json`` and the figures (PNG, in
     ``out_dir/figures``) for the spec ``spec_path``; return the report dict (as in the JSON).
 
@@ -81,6 +83,8 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
     spec; it is reported instead of optimising again (``optimize`` is then ignored).
     ``model``: the spec's :class:`DesignModel` when the caller has built it (its compiled
     programs are reused).
+    ``figure_workers``: draw the figures in that many worker processes while this one computes
+    (:mod:`diffsense.report.drawing`; the command line uses two); 0 draws them here.
     Raises :class:`~diffsense.errors.SpecError` for an invalid spec; every other failure only
     removes the section it concerns (listed under ``unavailable``).
     """
@@ -91,116 +95,121 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
         model = DesignModel(load_spec(spec_path))
     spec = model.spec
     model.programs.start("evaluation", "check", "search", "dense")
-    unavailable: List[dict] = []
-    report: dict = {"name": spec.name, "title": spec.title, "sensor": spec.sensor, "description": spec.description.strip(),
-                    "spec_file": str(spec_path), "objective_text": spec.objective.text}
+    # the figures' worker processes start now: their imports overlap the optimisation
+    drawer = Drawer(folder, figure_workers)
+    try:
+        unavailable: List[dict] = []
+        report: dict = {"name": spec.name, "title": spec.title, "sensor": spec.sensor, "description": spec.description.strip(),
+                        "spec_file": str(spec_path), "objective_text": spec.objective.text}
 
-    multipliers = None
-    optimize = optimize or optimum is not None
-    if optimize:
-        t0 = time.perf_counter()
-        if optimum is None:
-            from diffsense.design.optimizer import optimize_design
+        multipliers = None
+        optimize = optimize or optimum is not None
+        if optimize:
+            t0 = time.perf_counter()
+            if optimum is None:
+                from diffsense.design.optimizer import optimize_design
 
-            result = optimize_design(model, n_starts=n_starts, seed=seed)
+                result = optimize_design(model, n_starts=n_starts, seed=seed)
+            else:
+                result = optimum
+            x, combo_index = np.asarray(result.x, dtype=float), int(result.combo_index)
+            multipliers = np.asarray(result.multipliers, dtype=float)
+            report.update(mode="optimum", converged=bool(result.converged), feasible=bool(result.feasible),
+                          unmet=list(result.unmet), candidates=result.candidates, canonical=result.canonical,
+                          multistart={"starts": result.starts, "converged": result.starts_converged,
+                                      "reached_best": result.starts_at_best},
+                          optimize_time_s=time.perf_counter() - t0)
         else:
-            result = optimum
-        x, combo_index = np.asarray(result.x, dtype=float), int(result.combo_index)
-        multipliers = np.asarray(result.multipliers, dtype=float)
-        report.update(mode="optimum", converged=bool(result.converged), feasible=bool(result.feasible),
-                      unmet=list(result.unmet), candidates=result.candidates, canonical=result.canonical,
-                      multistart={"starts": result.starts, "converged": result.starts_converged,
-                                  "reached_best": result.starts_at_best},
-                      optimize_time_s=time.perf_counter() - t0)
-    else:
-        x, combo_index = np.asarray(model.initial, dtype=float), 0
-        report.update(mode="initial_design", converged=None, feasible=None)
+            x, combo_index = np.asarray(model.initial, dtype=float), 0
+            report.update(mode="initial_design", converged=None, feasible=None)
 
-    inputs = design_inputs(model, x, combo_index)
-    batch = BatchEvaluator(model, x, combo_index)
-    v0 = np.array([i.value for i in inputs])
-    values, _ = batch(v0[None, :])
-    evaluations, req_values, objective = row(values, 0)
-    req_values = np.asarray(req_values, dtype=float)
-    report["design"] = design_table(model, x, combo_index)
-    report["choices"] = dict(model.combinations[combo_index].options)
-    checks = model.programs.dense_checks(batch.values0, batch.inputs, req_values)
-    report["requirements"] = model.requirement_rows(req_values, checks=checks)
-    try:
-        attach_probabilities(model, report, x, combo_index)
-    except Exception as exc:  # noqa: BLE001 - a failed section must not stop the report
-        unavailable.append({"section": "requirements under uncertainty (Monte Carlo check)", "reason": _reason(exc)})
-    if not optimize:
-        report["feasible"] = all(r["met"] for r in report["requirements"])
-    report["objective"] = {"text": spec.objective.text, "value": float(objective), "unit": _objective_unit(model)}
-    report["cases"] = {}
-    for case, ev in evaluations.items():
-        outs = spec.outputs[case]
-        rows = budget_rows(ev)
-        report["cases"][case] = {
-            "parts": sorted(spec.scenes[case].parts),
-            "options": dict(spec.scenes[case].options),
-            "budget": rows,
-            "budget_total_db": rows[-1]["running_total_db"] if rows else None,
-            "outputs": {k: {"value": np.asarray(v), "unit": outs[k].unit if k in outs else ""} for k, v in ev.values.items()},
-        }
-
-    # --- Jacobian and elasticities -------------------------------------------------------
-    out_meta = [{"name": r.name, "case": r.case, "output": r.output, "unit": r.unit} for r in model.requirements]
-    out_meta.append({"name": "objective", "case": None, "output": spec.objective.text, "unit": report["objective"]["unit"]})
-    jac = None
-    try:
-        jac = jacobian_section(batch, inputs, out_meta)
-        report["jacobian"] = {
-            "inputs": [{"name": i.name, "param": i.param, "cases": list(i.cases), "kind": i.kind, "unit": i.unit,
-                        "value": i.value} for i in inputs],
-            "outputs": [dict(o, value=float(v)) for o, v in zip(out_meta, jac["values"])],
-            "autodiff": jac["autodiff"],
-            "autodiff_error": jac["autodiff_error"],
-            "derivative": jac["derivative"],
-            "elasticity": jac["elasticity"],
-            "fd_check": _fd_json(jac["fd_check"], inputs, out_meta),
-        }
-        if not jac["autodiff"]:
-            unavailable.append({"section": "automatic derivatives", "reason": jac["autodiff_error"]})
-    except Exception as exc:  # noqa: BLE001 - a failed section must not stop the report
-        unavailable.append({"section": "Jacobian and elasticities", "reason": _reason(exc)})
-
-    # --- multipliers and post-optimal sensitivities --------------------------------------
-    if optimize:
-        report["multipliers"] = [{"requirement": r.name, "multiplier": float(m)} for r, m in zip(model.requirements, multipliers)]
+        inputs = design_inputs(model, x, combo_index)
+        batch = BatchEvaluator(model, x, combo_index)
+        v0 = np.array([i.value for i in inputs])
+        values, _ = batch(v0[None, :])
+        evaluations, req_values, objective = row(values, 0)
+        req_values = np.asarray(req_values, dtype=float)
+        report["design"] = design_table(model, x, combo_index)
+        report["choices"] = dict(model.combinations[combo_index].options)
+        checks = model.programs.dense_checks(batch.values0, batch.inputs, req_values)
+        report["requirements"] = model.requirement_rows(req_values, checks=checks)
         try:
-            if jac is None or not jac["autodiff"]:
-                raise RuntimeError("needs the automatic derivatives of the Jacobian section")
-            post = post_optimal_section(model, inputs, batch, x, combo_index, jac["derivative"], req_values,
-                                        multipliers, objective_scale(model))
-            report["post_optimal"] = _post_json(post, model, report)
-            if post.get("reason"):
-                unavailable.append({"section": "post-optimal sensitivities d(design)/d(limit)", "reason": post["reason"]})
+            attach_probabilities(model, report, x, combo_index)
+        except Exception as exc:  # noqa: BLE001 - a failed section must not stop the report
+            unavailable.append({"section": "requirements under uncertainty (Monte Carlo check)", "reason": _reason(exc)})
+        if not optimize:
+            report["feasible"] = all(r["met"] for r in report["requirements"])
+        report["objective"] = {"text": spec.objective.text, "value": float(objective), "unit": _objective_unit(model)}
+        report["cases"] = {}
+        for case, ev in evaluations.items():
+            outs = spec.outputs[case]
+            rows = budget_rows(ev)
+            report["cases"][case] = {
+                "parts": sorted(spec.scenes[case].parts),
+                "options": dict(spec.scenes[case].options),
+                "budget": rows,
+                "budget_total_db": rows[-1]["running_total_db"] if rows else None,
+                "outputs": {k: {"value": np.asarray(v), "unit": outs[k].unit if k in outs else ""} for k, v in ev.values.items()},
+            }
+
+        # --- Jacobian and elasticities -------------------------------------------------------
+        out_meta = [{"name": r.name, "case": r.case, "output": r.output, "unit": r.unit} for r in model.requirements]
+        out_meta.append({"name": "objective", "case": None, "output": spec.objective.text, "unit": report["objective"]["unit"]})
+        jac = None
+        try:
+            jac = jacobian_section(batch, inputs, out_meta)
+            report["jacobian"] = {
+                "inputs": [{"name": i.name, "param": i.param, "cases": list(i.cases), "kind": i.kind, "unit": i.unit,
+                            "value": i.value} for i in inputs],
+                "outputs": [dict(o, value=float(v)) for o, v in zip(out_meta, jac["values"])],
+                "autodiff": jac["autodiff"],
+                "autodiff_error": jac["autodiff_error"],
+                "derivative": jac["derivative"],
+                "elasticity": jac["elasticity"],
+                "fd_check": _fd_json(jac["fd_check"], inputs, out_meta),
+            }
+            if not jac["autodiff"]:
+                unavailable.append({"section": "automatic derivatives", "reason": jac["autodiff_error"]})
+        except Exception as exc:  # noqa: BLE001 - a failed section must not stop the report
+            unavailable.append({"section": "Jacobian and elasticities", "reason": _reason(exc)})
+
+        # --- multipliers and post-optimal sensitivities --------------------------------------
+        if optimize:
+            report["multipliers"] = [{"requirement": r.name, "multiplier": float(m)} for r, m in zip(model.requirements, multipliers)]
+            try:
+                if jac is None or not jac["autodiff"]:
+                    raise RuntimeError("needs the automatic derivatives of the Jacobian section")
+                post = post_optimal_section(model, inputs, batch, x, combo_index, jac["derivative"], req_values,
+                                            multipliers, objective_scale(model))
+                report["post_optimal"] = _post_json(post, model, report)
+                if post.get("reason"):
+                    unavailable.append({"section": "post-optimal sensitivities d(design)/d(limit)", "reason": post["reason"]})
+            except Exception as exc:  # noqa: BLE001
+                report["post_optimal"] = {"available": False, "reason": _reason(exc)}
+                unavailable.append({"section": "post-optimal sensitivities", "reason": _reason(exc)})
+        else:
+            reason = "the report describes the spec's initial design, not an optimum (build it with optimisation on)"
+            report["post_optimal"] = {"available": False, "reason": reason}
+            unavailable.append({"section": "multipliers and post-optimal sensitivities", "reason": reason})
+
+        # --- what sets the design --------------------------------------------------------------
+        try:
+            report["findings"] = design_findings(model, x, combo_index, report["requirements"], multipliers)
         except Exception as exc:  # noqa: BLE001
-            report["post_optimal"] = {"available": False, "reason": _reason(exc)}
-            unavailable.append({"section": "post-optimal sensitivities", "reason": _reason(exc)})
-    else:
-        reason = "the report describes the spec's initial design, not an optimum (build it with optimisation on)"
-        report["post_optimal"] = {"available": False, "reason": reason}
-        unavailable.append({"section": "multipliers and post-optimal sensitivities", "reason": reason})
+            unavailable.append({"section": "what sets the design", "reason": _reason(exc)})
 
-    # --- what sets the design --------------------------------------------------------------
-    try:
-        report["findings"] = design_findings(model, x, combo_index, report["requirements"], multipliers)
-    except Exception as exc:  # noqa: BLE001
-        unavailable.append({"section": "what sets the design", "reason": _reason(exc)})
-
-    # --- figures -------------------------------------------------------------------------
-    figs, skipped = _figures(folder, model, inputs, batch, report, jac)
-    report["figures"] = figs
-    report["skipped_figures"] = skipped
-    report["unavailable"] = unavailable
-    report["report_time_s"] = time.perf_counter() - t_start
-    blocks = report_blocks(report)
-    paths = write_report(folder, report, blocks)
-    report["files"] = {k: str(p) for k, p in paths.items()}
-    return report
+        # --- figures -------------------------------------------------------------------------
+        figs, skipped = _figures(drawer, model, inputs, batch, report, jac)
+        report["figures"] = figs
+        report["skipped_figures"] = skipped
+        report["unavailable"] = unavailable
+        report["report_time_s"] = time.perf_counter() - t_start
+        blocks = report_blocks(report)
+        paths = write_report(folder, report, blocks)
+        report["files"] = {k: str(p) for k, p in paths.items()}
+        return report
+    finally:
+        drawer.close()
 
 
 def _fd_json(check: dict, inputs, out_meta) -> dict:
@@ -260,16 +269,20 @@ def _post_json(post: dict, model: DesignModel, report: dict) -> dict:
     }
 
 
-def _figures(folder: OutputFolder, model: DesignModel, inputs, batch, report: dict, jac: Optional[dict]):
-    figs: List[dict] = []
+def _figures(drawer: Drawer, model: DesignModel, inputs, batch, report: dict, jac: Optional[dict]):
+    """The report's figures: each one's numbers computed here, its drawing handed to ``drawer``
+    (here or in a worker process); returns (figures written, figures skipped with the reason)."""
     skipped: List[dict] = []
+    pending: list = []
     spec = model.spec
 
-    def attempt(name: str, title: str, caption: str, fn, section: str):
+    def attempt(name: str, title: str, caption: str, request, section: str):
+        """``request()`` -> (figure function, its arguments after the target, its keywords)."""
         try:
+            fn, args, kwargs = request()
             # names carry case names from the spec: made safe, never a path of their own
-            path = fn(folder.file(f"{FIGURE_DIR}/{safe_name(name)}.png"))
-            figs.append({"file": f"{FIGURE_DIR}/{path.name}", "title": title, "caption": caption, "section": section})
+            drawing = drawer.draw(fn, f"{FIGURE_DIR}/{safe_name(name)}.png", *args, **kwargs)
+            pending.append((drawing, {"title": title, "caption": caption, "section": section}))
         except Exception as exc:  # noqa: BLE001 - a figure that cannot be drawn is listed, not fatal
             skipped.append({"figure": title, "reason": _reason(exc)})
 
@@ -287,8 +300,8 @@ def _figures(folder: OutputFolder, model: DesignModel, inputs, batch, report: di
             attempt(f"budget_{case}", f"Link budget{tag}",
                     f"Link budget{tag}: each term (dB) as a bar from the running total before it to the one after it; "
                     "the last bar is the SNR, the sum of the terms.",
-                    lambda p, d=data, nd=needed, lb=label: figures.waterfall(
-                        p, d["budget"], title=f"{spec.title}: link budget{tag}", required_db=nd, required_label=lb),
+                    lambda d=data, nd=needed, lb=label: (figures.waterfall, (d["budget"],), dict(
+                        title=f"{spec.title}: link budget{tag}", required_db=nd, required_label=lb)),
                     f"budget:{case}")
         else:
             skipped.append({"figure": f"Link budget{tag}", "reason": "the chain produces no budget"})
@@ -307,7 +320,7 @@ def _figures(folder: OutputFolder, model: DesignModel, inputs, batch, report: di
                 attempt(f"snr_vs_range_{case}", f"SNR versus range{tag}",
                         f"SNR{tag} against range with every other input at its design value; dotted: the range the "
                         "requirements are stated at; the marker shows where the main margin requirement is just met.",
-                        lambda p: figures.snr_vs_range(p, sweep, title=f"{spec.title}: SNR versus range{tag}"),
+                        lambda: (figures.snr_vs_range, (sweep,), dict(title=f"{spec.title}: SNR versus range{tag}")),
                         f"range:{case}")
             else:
                 skipped.append({"figure": f"SNR versus range{tag}", "reason": "the chain has no snr_db output"})
@@ -317,8 +330,8 @@ def _figures(folder: OutputFolder, model: DesignModel, inputs, batch, report: di
                         "target statistics); where the main margin requirement states its own condition (a faded "
                         "target), solid in that condition and dashed at the mean target strength; the marker shows "
                         "where that requirement is just met, the same range as in the SNR figure.",
-                        lambda p: figures.pd_vs_range(p, sweep, required_pd=req_pd, pfa=pfa,
-                                                      title=f"{spec.title}: Pd versus range{tag}"),
+                        lambda: (figures.pd_vs_range, (sweep,), dict(required_pd=req_pd, pfa=pfa,
+                                                                     title=f"{spec.title}: Pd versus range{tag}")),
                         f"range:{case}")
             else:
                 skipped.append({"figure": f"Pd versus range{tag}", "reason": "the chain has no pd output for this scene"})
@@ -326,8 +339,8 @@ def _figures(folder: OutputFolder, model: DesignModel, inputs, batch, report: di
                 f"Receiver operating characteristic{tag}: the chain's Pd as Pfa varies over the chain's domain of "
                 "pfa, at the design (its range and SNR) and at the longer ranges where the design's Pd falls to "
                 "0.9, 0.5 and 0.1, at the mean target strength; the star is the required operating point.",
-                lambda p: figures.roc(p, roc_sweep(batch, inputs, case), required_pd=req_pd,
-                                      title=f"{spec.title}: ROC{tag}"),
+                lambda: (figures.roc, (roc_sweep(batch, inputs, case),), dict(required_pd=req_pd,
+                                                                             title=f"{spec.title}: ROC{tag}")),
                 f"roc:{case}")
         if spec.sensor == "radar" and coverage_applies(spec.scenes[case]):
             attempt(f"coverage_{case}", f"Coverage chart (Blake){tag}",
@@ -337,15 +350,15 @@ def _figures(folder: OutputFolder, model: DesignModel, inputs, batch, report: di
                     "(the margin as the case computes it, including any clutter or multipath term at the case's own "
                     "target height: lobing with elevation angle is not modelled); antenna height 0 m unless the "
                     "scene has antenna_height_m.",
-                    lambda p: figures.blake_chart(p, blake_coverage(batch, model, inputs, case),
-                                                  title=f"{spec.title}: coverage over the 4/3 earth{tag}"),
+                    lambda: (figures.blake_chart, (blake_coverage(batch, model, inputs, case),),
+                             dict(title=f"{spec.title}: coverage over the 4/3 earth{tag}")),
                     f"coverage:{case}")
         else:
             skipped.append({"figure": f"Coverage chart (Blake){tag}", "reason": coverage_skip_reason(spec.scenes[case])})
     for j, row in enumerate(report["requirements"]):
         if row.get("curve"):
             attempt(f"interval_{j}", f"'{row['name']}' over its interval",
-                    interval_caption(row), lambda p, row=row: interval_margin(p, row, title=f"{spec.title}: {row['name']}"),
+                    interval_caption(row), lambda row=row: (interval_margin, (row,), dict(title=f"{spec.title}: {row['name']}")),
                     f"interval:{j}")
     if jac is not None:
         labels = [f"{i.name} = {si_text(i.value, i.unit)}" + (" (as 1 − pd, dB)" if miss_measured(i.param, i.value) else "")
@@ -360,10 +373,17 @@ def _figures(folder: OutputFolder, model: DesignModel, inputs, batch, report: di
                     "at the top; green raises the output, red lowers it. "
                     "'(kink)': the output is not smooth in that input at the design; the bar is the "
                     "automatic derivative, a one-sided slope.",
-                    lambda p, a=a, r=r, marked=marked: figures.tornado(
-                        p, marked, jac["elasticity"][a], title=f"Elasticities of {r.output} ('{r.name}')",
-                        xlabel="Elasticity (dB per dB; % per % for linear quantities)"),
+                    lambda a=a, r=r, marked=marked: (figures.tornado, (marked, jac["elasticity"][a]), dict(
+                        title=f"Elasticities of {r.output} ('{r.name}')",
+                        xlabel="Elasticity (dB per dB; % per % for linear quantities)")),
                     f"tornado:{a}")
+    figs: List[dict] = []
+    for drawing, entry in pending:
+        try:
+            path = drawing.result()
+            figs.append({"file": f"{FIGURE_DIR}/{path.name}", **entry})
+        except Exception as exc:  # noqa: BLE001
+            skipped.append({"figure": entry["title"], "reason": _reason(exc)})
     return figs, skipped
 
 

@@ -352,10 +352,17 @@ def _shrink_escaping(fig, renderer) -> bool:
 
 def fit(fig) -> List[str]:
     """Fit ``fig`` (module docstring) and return :func:`layout_problems` of the result."""
+    _fit(fig)
+    return layout_problems(fig)
+
+
+def _fit(fig) -> None:
+    """The fitting passes of :func:`fit`: each step measures on a renderer of the figure as it
+    stands (laid out again only after a step changed it), until a pass changes nothing."""
     steps: Tuple[Callable, ...] = (_fit_titles, _fit_categories, _fit_data_labels, _fit_ticks, _fit_legends,
                                    _shrink_escaping)
+    renderer = _renderer(fig)
     for _ in range(_PASSES):
-        renderer = _renderer(fig)
         changed = False
         for step in steps:
             if step(fig, renderer):
@@ -363,18 +370,17 @@ def fit(fig) -> List[str]:
                 renderer = _renderer(fig)
         if not changed:
             break
-    return layout_problems(fig)
 
 
 def save(fig, path) -> Path:
     """Fit ``fig`` and write it as PNG to ``path``: a :class:`~diffsense.report.files.FileTarget`
     (a file of a command's output folder) or a plain path, atomically either way; the figure is
     closed; returns the path."""
-    from diffsense.report.files import FileTarget, write_atomically
+    from diffsense.report.files import write_atomically
 
     try:
-        fit(fig)
-        if isinstance(path, FileTarget):
+        _fit(fig)  # layout_problems of the result is checked on every shipped report by the tests
+        if hasattr(path, "save_figure"):  # a FileTarget, or a worker's MemoryTarget (report.drawing)
             return path.save_figure(fig, dpi=DPI)
         import io
 

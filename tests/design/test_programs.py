@@ -94,6 +94,7 @@ CHILD = textwrap.dedent("""
     values = model.programs.values_rows(model.design_values(model.initial, 0)[None, :])[2]
     full = model.programs.values_rows(model.design_values(model.initial, 0)[None, :], full=True)[2]
     print(json.dumps({"from_disk": program.loaded_from_disk, "traces": P.TRACES.get("check", 0),
+                      "executable": program.executable_loaded,
                       "values": [float(v) for v in values[0]], "full": [float(v) for v in full[0]]}))
 """)
 
@@ -110,8 +111,10 @@ def test_a_second_process_loads_the_traced_program(tmp_path):
         assert out.returncode == 0, out.stderr[-3000:]
         runs.append(json.loads(out.stdout.strip().splitlines()[-1]))
     first, second = runs
-    assert not first["from_disk"] and first["traces"] == 1
-    assert second["from_disk"] and second["traces"] == 0
+    assert not first["from_disk"] and first["traces"] == 1 and not first["executable"]
+    # the second process neither traces nor compiles: the module and the executable come from disk
+    assert second["from_disk"] and second["traces"] == 0 and second["executable"]
+    assert len(list((tmp_path / "cache" / "programs").glob("check-*.xlaexec"))) == 1
     assert second["values"] == first["values"] and second["full"] == first["full"]
     # the program loaded from disk compiles to what the traced one did: one executable of each in
     # XLA's persistent cache, so the second process compiled nothing (the outputs program has

@@ -41,12 +41,11 @@ def load_model(design_file: Path, reporter: Reporter, *, starts: Optional[int] =
                     check_work(spec.path, spec, starts, starts_key="--starts")
             model = DesignModel(spec)
         with reporter.step("compiling the design programs" if starts else "compiling the evaluation programs"):
-            # the small check program first: it compiles on one core while this thread traces the
-            # solver's program, whose compilation is the longest
-            model.programs.start("check")
+            # the solver's program first, whose compilation is the longest: it compiles on one core
+            # while this thread traces the small check program, which the other core compiles
             if starts:
                 prepare(model, n_starts=starts)
-            model.programs.start("search", "dense", *(("evaluation",) if tangents else ()))
+            model.programs.start("check", "search", "dense", *(("evaluation",) if tangents else ()))
         with reporter.step("checking the chain at the initial design and the box corners"):
             check_evaluable(model)
         return model

@@ -51,8 +51,8 @@ def _configure_jax() -> None:
     solver programs compile about 40 % faster at equal run time; read when the backend starts,
     so set before first use), and one cache folder between runs (``DIFFSENSE_CACHE_DIR``,
     default ~/.cache/diffsense/xla) for the design programs, traced and compiled
-    (:mod:`diffsense.optimize.programs`), so that only the first run of a spec structure pays
-    tracing and compilation."""
+    (:mod:`diffsense.optimize.programs`), and for JAX's persistent compilation cache, so that
+    only the first run of a spec structure pays tracing and compilation."""
     flag = "--xla_cpu_use_fusion_emitters=false"
     if flag not in os.environ.get("XLA_FLAGS", ""):
         os.environ["XLA_FLAGS"] = (os.environ.get("XLA_FLAGS", "") + " " + flag).strip()
@@ -62,10 +62,6 @@ def _configure_jax() -> None:
                                   os.path.join(os.path.expanduser("~"), ".cache", "diffsense", "xla"))
     jax.config.update("jax_compilation_cache_dir", cache)
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
-    # the design programs keep their own executables in the folder (diffsense.optimize.programs,
-    # loaded without lowering or hashing the module again); JAX's own cache would hold a second
-    # copy of each, and an executable read back from it cannot be stored again
-    jax.config.update("jax_enable_compilation_cache", False)
     # a size limit makes JAX lock the cache folder around each read and write (filelock): two
     # processes never read an entry half written (README, Dependencies)
     from diffsense.optimize.programs import lock_compilation_cache

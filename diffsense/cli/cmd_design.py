@@ -24,7 +24,8 @@ def load_model(design_file: Path, reporter: Reporter, *, starts: Optional[int] =
     corners of the box (:func:`diffsense.design.evaluable.check_evaluable`), so that values the
     chain rejects together, or cannot evaluate to a finite answer, are reported here. With
     ``starts`` the optimiser's programs begin compiling first (in background threads, while the
-    others are traced; the small check program before the solver's); ``tangents``: the program of derivatives too (a report)."""
+    others are traced; the solver's program, whose compilation is the longest, before the small
+    check program); ``tangents``: the program of derivatives too (a report)."""
     from diffsense.design.evaluable import check_evaluable
     from diffsense.design.model import DesignModel
     from diffsense.design.optimizer import prepare

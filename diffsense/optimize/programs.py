@@ -17,9 +17,9 @@ numbers, so it is
   it directly, without lowering the module again or hashing it for JAX's persistent cache
   (about a third of a second less per program). Only an executable XLA compiled in this
   process is stored: one JAX read back from its own persistent cache serialises without the
-  kernels XLA:CPU built for it, and loading that copy would fail when it runs. (The command
-  line therefore switches JAX's own cache off; without an ``.xlaexec`` file the compilation
-  still goes through JAX's cache when one is configured.)
+  kernels XLA:CPU built for it, and loading that copy would fail when it runs: a program whose
+  executable JAX's cache held already (compiled by an earlier version of this package, or by a
+  process that does not store executables) keeps loading through JAX's cache.
 
 ``<cache>`` is the folder of JAX's persistent compilation cache (``jax_compilation_cache_dir``,
 which the ``diffsense`` command sets from ``DIFFSENSE_CACHE_DIR``); without one, programs are

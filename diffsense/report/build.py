@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
-from typing import Dict, List, Optional
+from typing import List, Optional
 
 import numpy as np
 
@@ -19,7 +19,6 @@ from diffsense.design.monte_carlo import attach_probabilities
 from diffsense.design.record import design_table
 from diffsense.design.spec import load_spec
 from diffsense.report import figures
-from diffsense.report.figures import coverage_applies, coverage_skip_reason
 from diffsense.report.interval_figures import interval_caption, interval_margin
 from diffsense.report.batch import BatchEvaluator, row
 from diffsense.design.runner import objective_scale
@@ -32,6 +31,8 @@ from diffsense.report.files import OutputFolder, safe_name
 from diffsense.report.render import REPORT_FILES, si_text, unit_text, write_report
 from diffsense.report.sweeps import (
     blake_coverage,
+    coverage_applies,
+    coverage_skip_reason,
     budget_rows,
     input_index,
     main_margin,

@@ -16,7 +16,6 @@ from typing import List, Optional
 import numpy as np
 
 from diffsense.report import style
-from diffsense.sensors.radar.structure import looks_along_surface
 
 
 def _finish(fig, ax, path, title, grid) -> Path:
@@ -235,22 +234,6 @@ def roc(path, data: dict, *, required_pd: Optional[float], title: str) -> Path:
     return _finish(fig, ax, path, title, grid=dict(which="both", alpha=0.3))
 
 
-def coverage_applies(scene) -> bool:
-    """True when a range-height coverage chart over the 4/3 earth describes the scene: a radar
-    that looks along the earth's surface and through the atmosphere
-    (:func:`diffsense.sensors.radar.structure.looks_along_surface`), not one looking down a shaft."""
-    return scene.sensor == "radar" and looks_along_surface(scene)
-
-
-def coverage_skip_reason(scene) -> str:
-    """Why the coverage chart is not drawn for ``scene`` (see :func:`coverage_applies`)."""
-    if scene.sensor != "radar":
-        return (f"a Blake range-height chart describes a radar beam over the refracting atmosphere; it does not "
-                f"apply to a {scene.sensor}")
-    return ("a Blake range-height chart describes a radar looking along the earth's surface through the "
-            "atmosphere; this scene looks down a shaft (radar option geometry, or the part wall_clutter)")
-
-
 def blake_chart(path, data: dict, *, title: str) -> Path:
     """Range-height-angle coverage: the detection contour with elevation-angle guide lines
     and the horizon over the 4/3 earth."""
@@ -289,5 +272,4 @@ def blake_chart(path, data: dict, *, title: str) -> Path:
                    grid=dict(alpha=0.3))
 
 
-__all__ = ["waterfall", "tornado", "snr_vs_range", "pd_vs_range", "roc", "coverage_applies", "coverage_skip_reason",
-           "blake_chart"]
+__all__ = ["waterfall", "tornado", "snr_vs_range", "pd_vs_range", "roc", "blake_chart"]

@@ -17,7 +17,7 @@ import pytest
 import diffsense  # noqa: F401
 from diffsense.errors import DomainError
 from diffsense.physics.constants import SPEED_OF_LIGHT_M_S
-from diffsense.report.figures import coverage_applies
+from diffsense.report.sweeps import coverage_applies
 from diffsense.scene import Scene, complete_parameters, evaluate, evaluator, parameter_table
 
 import mpmath as mp

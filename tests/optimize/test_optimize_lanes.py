@@ -89,3 +89,41 @@ def test_integer_neighbours_pin_each_candidate_in_the_box():
 def test_solve_in_batches_needs_rows():
     with pytest.raises(DomainError):
         solve_in_batches(lambda x: x, 2, np.zeros((0, 1)))
+
+
+def test_batches_run_on_threads_give_each_row_its_own_answer_in_order():
+    # the closed form x* = max(θ₀, θ₁) per row: the batches after the first run on two threads,
+    # and every row must come back at its own place, equal to the one-thread result
+    prob = _shifted_quadratic()
+    thetas = np.stack([np.linspace(-5.0, 5.0, 11), np.linspace(1.0, -1.0, 11)], axis=1)
+    lanes = lane_grid(np.zeros((1, 1)), thetas, lower=prob.lower, upper=prob.upper)
+    solver = make_lane_solver(prob, OPTS, lockstep=1, compile="fast")
+    cols = (lanes.x0, lanes.theta, lanes.lower, lanes.upper)
+    one = solve_in_batches(solver, 2, *cols, threads=1)
+    two = solve_in_batches(solver, 2, *cols, threads=2)
+    np.testing.assert_allclose(two.x[:, 0], np.maximum(thetas[:, 0], thetas[:, 1]), atol=1e-9)
+    np.testing.assert_array_equal(two.x, one.x)
+    np.testing.assert_array_equal(two.f, one.f)
+
+
+def test_problem_is_an_immutable_pytree_of_its_bounds():
+    import jax
+
+    prob = Problem(lambda x, th: jnp.sum(x ** 2), [0.1, -1.0], [10.0, 1.0], log_scale=[True, False],
+                   names=["a", "b"])
+    leaves, tree = jax.tree_util.tree_flatten(prob)
+    # the arrays are the leaves (lower, upper, scale, log flags); the functions are structure
+    assert len(leaves) == 4
+    np.testing.assert_array_equal(leaves[2], [1.0, 1.0])  # √(0.1·10) and max(|−1|, |1|)
+    back = jax.tree_util.tree_unflatten(tree, leaves)
+    assert back.names == ("a", "b") and back.objective is prob.objective
+    moved = prob.with_bounds([1.0, -0.5], [2.0, 0.5])
+    np.testing.assert_array_equal(moved.lower, [1.0, -0.5])
+    np.testing.assert_array_equal(prob.lower, [0.1, -1.0])  # the original is unchanged
+    with pytest.raises(AttributeError, match="immutable"):
+        prob.lower = np.zeros(2)
+    with pytest.raises(TypeError, match="no field"):
+        prob.replace(bounds=None)
+    # traced bounds: a jitted function of the bounds
+    f = jax.jit(lambda lo: prob.with_bounds(lo, prob.upper).scaled_bounds()[0])
+    np.testing.assert_allclose(f(np.array([1.0, 0.0])), [0.0, 0.0], atol=1e-15)

@@ -37,6 +37,7 @@ import concurrent.futures
 import hashlib
 import json
 import os
+import re
 import tempfile
 import threading
 import time
@@ -232,7 +233,7 @@ class Program:
             COMPILATIONS[self.name] = COMPILATIONS.get(self.name, 0) + 1
         self._out = (exported.out_tree, [(tuple(a.shape), np.dtype(a.dtype)) for a in exported.out_avals])
         trees = self._trees(exported)
-        path = self._executable_path()
+        path = self._executable_path() if _runtime_ready(exported) else None
         # the options the preset asks for: an executable is stored only when XLA accepted them
         compiled = None if path is None else _load_executable(path, trees, preset_options(self.preset))
         self.executable_loaded = compiled is not None
@@ -343,6 +344,27 @@ def _jaxlib_version() -> str:
         return jaxlib.__version__
     except (ImportError, AttributeError):
         return ""
+
+
+def _runtime_ready(exported) -> bool:
+    """Whether an executable of ``exported`` may be stored and loaded directly: true when the
+    module calls no custom kernels, or only LAPACK's, whose entry points are set up here first
+    (lowering a module sets them up; loading an executable does not, and a LAPACK call then
+    jumps to an empty pointer). A module with other custom calls is always compiled through
+    JAX (and its persistent cache)."""
+    module = exported.mlir_module_serialized
+    if b"custom_call" not in module:
+        return True
+    targets = set(re.findall(r"custom_call @([A-Za-z0-9_.]+)", exported.mlir_module()))
+    if not targets or not all(t.startswith("lapack_") for t in targets):
+        return False
+    try:
+        from jax._src.lax.linalg import initialize_lapack
+
+        initialize_lapack()
+    except Exception:  # noqa: BLE001 - a JAX without this entry point: compile as usual
+        return False
+    return True
 
 
 def _load_executable(path: Path, trees, options: dict):

@@ -6,8 +6,7 @@ from __future__ import annotations
 from rich.text import Text
 
 from diffsense.cli.output import Reporter, fmt, fmt_db
-
-_SENSE = {"at_least": ">=", "at_most": "<=", "equals": "="}
+from diffsense.design.spec.types import SENSE_ASCII
 
 
 def print_design(record: dict, reporter: Reporter) -> None:
@@ -62,7 +61,7 @@ def print_requirements(record: dict, reporter: Reporter) -> None:
     for row in record["requirements"]:
         met = Text("yes", style="green") if row["met"] else Text("NO", style="bold red")
         rows.append((row["name"] + worst_point_text(row), fmt(row["value"]),
-                     f"{_SENSE[row['sense']]} {fmt(row['limit'])}", row["unit"], fmt(row["slack"]), met))
+                     f"{SENSE_ASCII[row['sense']]} {fmt(row['limit'])}", row["unit"], fmt(row["slack"]), met))
     reporter.table("Requirements", ("requirement", "value", "limit", "unit", "slack", "met"), rows,
                    right=("value", "limit", "slack"))
 
@@ -116,7 +115,7 @@ def unmet_line(row: dict) -> str:
     """
     how = {"at_least": "short by", "at_most": "over by", "equals": "off by"}[row["sense"]]
     return (f"requirement {row['name']!r} not met: {_with_unit(row['value'], row['unit'])}, "
-            f"limit {_SENSE[row['sense']]} {_with_unit(row['limit'], row['unit'])}, "
+            f"limit {SENSE_ASCII[row['sense']]} {_with_unit(row['limit'], row['unit'])}, "
             f"{how} {_with_unit(-row['slack'], row['unit'])}{worst_point_text(row)}")
 
 

@@ -11,8 +11,8 @@ from html import escape
 from typing import List
 
 from diffsense.report.render import fmt
+from diffsense.design.spec.types import SENSE_SYMBOLS
 
-_SENSE = {"at_least": "≥", "at_most": "≤", "equals": "="}
 #: (background, text colour) per requirement status
 STOPLIGHT = {"met": ("#e8f5e9", "#1b5e20"), "active": ("#fff8e1", "#8d6e00"), "unmet": ("#ffebee", "#b71c1c"),
              "pending": ("#f6f8fa", "#57606a")}  # an interval requirement whose search is still compiling
@@ -41,7 +41,7 @@ def requirements_html(rows: List[dict]) -> str:
             f'style="background:{bg}">'
             f'<td>{escape(r["name"])}</td>'
             f'<td class="ds-num" data-value="{r["value"]!r}">{fmt(r["value"])}</td>'
-            f'<td class="ds-num">{_SENSE[r["sense"]]} {fmt(r["limit"])}</td>'
+            f'<td class="ds-num">{SENSE_SYMBOLS[r["sense"]]} {fmt(r["limit"])}</td>'
             f'<td>{escape(r["unit"])}</td>'
             f'<td class="ds-num" data-value="{r["slack"]!r}">{fmt(r["slack"])}</td>'
             f'<td><span class="ds-chip" style="color:{fg};border:1px solid {fg}">{r["status"]}</span></td></tr>')

@@ -9,8 +9,7 @@ import numpy as np
 from diffsense.report.glance import glance_blocks
 from diffsense.report.jacobian import FD_STEP
 from diffsense.report.render import fmt, unit_text
-
-_SENSE = {"at_least": "≥", "at_most": "≤", "equals": "="}
+from diffsense.design.spec.types import SENSE_SYMBOLS
 
 
 def _figure_blocks(report: dict, section: str) -> List[tuple]:
@@ -121,7 +120,7 @@ def _requirements(report: dict) -> List[tuple]:
     rows = []
     for r in report["requirements"]:
         s = shadow.get(r["name"], {})
-        rows.append([r["name"] + _worst_text(r), f"{r['case']}.{r['output']}", r["value"], f"{_SENSE[r['sense']]} {fmt(r['limit'])}",
+        rows.append([r["name"] + _worst_text(r), f"{r['case']}.{r['output']}", r["value"], f"{SENSE_SYMBOLS[r['sense']]} {fmt(r['limit'])}",
                      unit_text(r["unit"]), r["slack"], r["met"], s.get("active", None) if s else None,
                      mult.get(r["name"]), s.get("d_objective_d_limit")])
     blocks = [("h2", "Requirements"),

@@ -18,16 +18,10 @@ from typing import List
 
 import numpy as np
 
-from diffsense.report.render import fmt, si_text, unit_text
+from diffsense.report.render import fmt, si_text, unit_text, worst_point_text
+from diffsense.design.spec.types import SENSE_SYMBOLS
 
-_SENSE = {"at_least": "≥", "at_most": "≤", "equals": "="}
 _LIGHT = {"unmet": "UNMET", "active": "ACTIVE", "met": "met"}
-
-
-def _where(r: dict) -> str:
-    if "worst_at" not in r:
-        return ""
-    return ", ".join(f"{k} = {fmt(v)} {r['over'][k][2]}" for k, v in r["worst_at"].items())
 
 
 def stoplight_rows(report: dict) -> List[list]:
@@ -38,8 +32,8 @@ def stoplight_rows(report: dict) -> List[list]:
     for r, st in zip(report["requirements"], status):
         unit = unit_text(r["unit"])
         rows.append([_LIGHT[st], r["name"], f"{fmt(r['value'])} {unit}".rstrip(),
-                     f"{_SENSE[r['sense']]} {fmt(r['limit'])} {unit}".rstrip(), f"{fmt(r['slack'])} {unit}".rstrip(),
-                     _where(r)])
+                     f"{SENSE_SYMBOLS[r['sense']]} {fmt(r['limit'])} {unit}".rstrip(), f"{fmt(r['slack'])} {unit}".rstrip(),
+                     worst_point_text(r)])
     return rows
 
 

@@ -78,6 +78,20 @@ _SI_PREFIXES = ((1e12, "T"), (1e9, "G"), (1e6, "M"), (1e3, "k"), (1.0, ""), (1e-
 _SI_UNITS = {"Hz", "W", "s", "m", "V", "J"}
 
 
+def worst_point_text(row: dict) -> str:
+    """Where an interval requirement's report row (``worst_at``, ``over``) found its worst value;
+    empty for a requirement without an interval.
+
+    >>> worst_point_text({"worst_at": {"range_m": 11968.2}, "over": {"range_m": (1e4, 2e4, "m")}})
+    'range_m = 11968 m'
+    >>> worst_point_text({"value": 3.0})
+    ''
+    """
+    if "worst_at" not in row:
+        return ""
+    return ", ".join(f"{k} = {fmt(v)} {row['over'][k][2]}" for k, v in row["worst_at"].items())
+
+
 def si_text(value, unit: str, digits: int = 4) -> str:
     """A value with its unit for a figure label: SI prefixes for Hz, W, s, m, V, J
     (``2.4e10 Hz`` -> ``24 GHz``), otherwise :func:`fmt` and :func:`unit_text`."""
@@ -181,4 +195,4 @@ def write_report(out_dir, report: dict, blocks: List[tuple]) -> dict:
             "html": folder.write_text("report.html", to_html(blocks, report.get("title", "design report")))}
 
 
-__all__ = ["to_jsonable", "fmt", "si_text", "unit_text", "to_markdown", "to_html", "write_report", "REPORT_FILES"]
+__all__ = ["to_jsonable", "fmt", "worst_point_text", "si_text", "unit_text", "to_markdown", "to_html", "write_report", "REPORT_FILES"]

@@ -21,13 +21,12 @@ import numpy as np
 
 from diffsense.design.activity import fixed_requirements
 from diffsense.design.trade import TradeResult
-from diffsense.report.render import fmt, unit_text
+from diffsense.report.render import fmt, unit_text, worst_point_text
 
 
 def _where(r: dict) -> str:
-    if "worst_at" not in r:
-        return ""
-    return " (worst at " + ", ".join(f"{k} = {fmt(v)} {r['over'][k][2]}" for k, v in r["worst_at"].items()) + ")"
+    where = worst_point_text(r)
+    return f" (worst at {where})" if where else ""
 
 
 def requirement_lines(result: TradeResult) -> List[str]:

@@ -16,6 +16,9 @@ from diffsense.sensors.chain import Output, Param
 
 #: the senses of a requirement: the output must be at least / at most / equal to the limit
 SENSES = ("at_least", "at_most", "equals")
+#: each sense as a relation symbol (reports, the explorer) and in ASCII (the terminal)
+SENSE_SYMBOLS = {"at_least": "≥", "at_most": "≤", "equals": "="}
+SENSE_ASCII = {"at_least": ">=", "at_most": "<=", "equals": "="}
 #: the name of the one evaluation case of a spec without a ``[cases]`` table
 DEFAULT_CASE = "main"
 

@@ -167,16 +167,18 @@ def water_vapour_partial_pressure_hpa(water_vapour_g_m3, temperature_k):
     return jnp.asarray(water_vapour_g_m3) * jnp.asarray(temperature_k) / 216.7
 
 
-def _check_inputs(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3):
-    check_range("freq_hz", freq_hz, 1e9, 1e12, where=_WHERE)
-    check_range("pressure_hpa", pressure_hpa, 0.0, 1200.0, lo_open=True, where=_WHERE)
-    check_range("temperature_k", temperature_k, 150.0, 350.0, where=_WHERE)
-    check_range("water_vapour_g_m3", water_vapour_g_m3, 0.0, 50.0, where=_WHERE)
+def _check_inputs(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3, f_max_hz: float = 1e12,
+                  where: str = _WHERE):
+    """The domain of the line-by-line model (``f_max_hz`` and ``where``: of the Annex 2 fits)."""
+    check_range("freq_hz", freq_hz, 1e9, f_max_hz, where=where)
+    check_range("pressure_hpa", pressure_hpa, 0.0, 1200.0, lo_open=True, where=where)
+    check_range("temperature_k", temperature_k, 150.0, 350.0, where=where)
+    check_range("water_vapour_g_m3", water_vapour_g_m3, 0.0, 50.0, where=where)
     if all(is_concrete(x) for x in (pressure_hpa, temperature_k, water_vapour_g_m3)):
         e = np.asarray(water_vapour_g_m3, float) * np.asarray(temperature_k, float) / 216.7
         if np.any(e >= np.asarray(pressure_hpa, float)):
             raise DomainError(
-                f"{_WHERE}: water-vapour partial pressure e = rho T / 216.7 must be below the "
+                f"{where}: water-vapour partial pressure e = rho T / 216.7 must be below the "
                 "total pressure 'pressure_hpa'"
             )
 
@@ -351,10 +353,7 @@ _WHERE_APPROX = "ITU-R P.676-10 Annex 2 approximate gaseous attenuation"
 
 
 def _check_approx_inputs(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3):
-    check_range("freq_hz", freq_hz, 1e9, 350e9, where=_WHERE_APPROX)
-    check_range("pressure_hpa", pressure_hpa, 0.0, 1200.0, lo_open=True, where=_WHERE_APPROX)
-    check_range("temperature_k", temperature_k, 150.0, 350.0, where=_WHERE_APPROX)
-    check_range("water_vapour_g_m3", water_vapour_g_m3, 0.0, 50.0, where=_WHERE_APPROX)
+    _check_inputs(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3, f_max_hz=350e9, where=_WHERE_APPROX)
 
 
 def _approx_state(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3):

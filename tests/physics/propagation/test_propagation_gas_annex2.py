@@ -113,6 +113,11 @@ def test_out_of_domain_raises():
         gas_attenuation_approx_db_per_km(351e9)
     with pytest.raises(DomainError, match="temperature_k"):
         gas_attenuation_approx_db_per_km(10e9, 1013.25, 100.0)
+    # the same physical domain as the line-by-line model: e = rho T / 216.7 below the pressure
+    # (here e = 50 · 300 / 216.7 = 69.2 hPa against 50 hPa)
+    with pytest.raises(DomainError, match="Annex 2 .*partial pressure"):
+        gas_attenuation_approx_db_per_km(10e9, 50.0, 300.0, 50.0)
+    assert np.isfinite(float(gas_attenuation_approx_db_per_km(10e9, 80.0, 300.0, 50.0)))
 
 
 def test_radar_option_itu_p676_approx_uses_the_closed_forms():

@@ -23,9 +23,9 @@ sensors, the optimizer or matplotlib.
 
 import os as _os
 
-import jax as _jax
-
 if _os.environ.get("DIFFSENSE_X64", "1") != "0":
+    import jax as _jax
+
     _jax.config.update("jax_enable_x64", True)
 
 __version__ = "0.1.0"

@@ -22,7 +22,7 @@ from __future__ import annotations
 import re
 import time
 from dataclasses import dataclass, field
-from typing import Callable, List, Optional
+from typing import Callable, Dict, List, Optional
 
 import jax
 import numpy as np
@@ -58,6 +58,11 @@ class Family:
     #: a model option ``[options] fidelity`` switches (False: a solver or spec setting, such as a
     #: search grid or a sample size, which the spec states and ``fidelity`` leaves alone)
     model_option: bool = True
+
+    @property
+    def by_name(self) -> Dict[str, Choice]:
+        """The choices by name."""
+        return {c.name: c for c in self.choices}
 
 
 def time_per_eval(fn: Callable, *args, batch: int, repeats: int = 5) -> float:

@@ -33,6 +33,7 @@ import numpy as np  # noqa: E402
 from scipy import stats  # noqa: E402
 
 import diffsense.detection as det  # noqa: E402
+from diffsense.optimize.lanes import worker_count  # noqa: E402
 from tests.reference import mp_detection as ref  # noqa: E402
 
 
@@ -193,17 +194,11 @@ def run(args):
             per_point(rows2, args.rsnr_points),
             f"Pd: Swerling 0, N = {n}, Pfa = {pfa:g}\n{args.points:,} SNRs from -10 to 30 dB",
             f"Required SNR: Swerling 1, N = {n}, Pfa = {pfa:g}\n{args.rsnr_points:,} Pd values from 0.1 to 0.99",
-            f"{_cpu_count()}-core CPU shared with other work; warm times: best of {args.repeat} interleaved rounds "
+            f"{worker_count()}-core CPU shared with other work; warm times: best of {args.repeat} interleaved rounds "
             "(required SNR: best of 3).\nErrors: maximum over 25 Pd and 5 SNR values against 40-digit mpmath "
             "(sdr: against the exact value).",
         )
         print(f"\nplot: {args.plot}")
-
-
-def _cpu_count():
-    import os
-
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
 
 
 if __name__ == "__main__":

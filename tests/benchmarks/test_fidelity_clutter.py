@@ -25,10 +25,6 @@ def families():
     return {f.key: f for f in fc.run(quick=True)}
 
 
-def _choices(family):
-    return {c.name: c for c in family.choices}
-
-
 def test_every_family_is_complete(families):
     assert set(families) == {"sea_clutter", "rain_clutter", "dust_clutter"}
     for fam in families.values():
@@ -38,7 +34,7 @@ def test_every_family_is_complete(families):
 
 
 def test_nrl_against_mpmath_its_continuation_and_the_matlab_example(families):
-    nrl = _choices(families["sea_clutter"])["nrl"]
+    nrl = families["sea_clutter"].by_name["nrl"]
     assert nrl.error_vs_reference < 1e-10  # dB
     assert fp.CHECKS["nrl_continuation_db"] < 1e-8  # psi^4 continuation below 0.1 deg (slope by mpmath.diff)
     # MATLAB prints 2.1555e-04: both evaluations round to it
@@ -48,7 +44,7 @@ def test_nrl_against_mpmath_its_continuation_and_the_matlab_example(families):
 
 def test_constant_gamma_is_its_formula_and_a_different_model_from_nrl(families):
     fam = families["sea_clutter"]
-    cg = _choices(fam)["constant_gamma"]
+    cg = fam.by_name["constant_gamma"]
     assert fp.CHECKS["constant_gamma_own_formula_db"] < 1e-10
     # a model-choice difference, larger than the NRL fit's own 2.2-2.6 dB mean deviation from the data
     lo, hi = fp.CHECKS["constant_gamma_vs_nrl_db"]
@@ -58,8 +54,8 @@ def test_constant_gamma_is_its_formula_and_a_different_model_from_nrl(families):
 
 
 def test_volume_reflectivities_against_their_formulas(families):
-    rain = _choices(families["rain_clutter"])
+    rain = families["rain_clutter"].by_name
     assert rain["marshall_palmer"].error_vs_reference < 1e-12  # dB
-    dust = _choices(families["dust_clutter"])
+    dust = families["dust_clutter"].by_name
     assert dust["book eq (8.45)"].error_vs_reference < 1e-12  # dB
     assert fp.CHECKS["dust_k_squared_relative"] < 1e-15

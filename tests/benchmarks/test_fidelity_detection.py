@@ -39,15 +39,11 @@ def families(tmp_path_factory, worker_id):
     return {f.key: f for f in fams}
 
 
-def _choices(family):
-    return {c.name: c for c in family.choices}
-
-
 def test_three_families_with_every_field(families):
     assert list(families) == ["detectability", "matched_filter", "received_pulse_width"]
     for f in families.values():
         assert f.domain and f.error_unit and f.reference and f.why_default and f.fast_bound
-        assert f.exact in _choices(f) and f.default in _choices(f)
+        assert f.exact in f.by_name and f.default in f.by_name
         for c in f.choices:
             assert c.seconds_per_eval >= 0 and c.hlo_ops is not None and c.note
             if c.name != "given":
@@ -59,7 +55,7 @@ def test_three_families_with_every_field(families):
 
 def test_detectability_rows(families):
     f = families["detectability"]
-    c = _choices(f)
+    c = f.by_name
     assert list(c) == ["exact", "exact float32", "book", "shnidman", "albersheim", "barton", "given"]
     # required_snr_db: within 1e-9 dB relative of the mpmath reference (values below 50 dB here)
     assert c["exact"].error_vs_reference <= 5e-8
@@ -89,7 +85,7 @@ def test_detectability_reference_and_book_error_against_scipy_closed_form(famili
     closed = 10 * np.log10(s(pd, pfa, n))
     assert np.max(np.abs(ref[2] - closed)) < 1e-9
     book = 10 * np.log10(s(pd, pfa, 1.0)) - 8 * np.log10(n)
-    assert abs(np.max(np.abs(book - closed)) - _choices(families["detectability"])["book"].error_vs_reference) < 1e-8
+    assert abs(np.max(np.abs(book - closed)) - families["detectability"].by_name["book"].error_vs_reference) < 1e-8
 
 
 # --- matched filter --------------------------------------------------------------------------
@@ -116,7 +112,7 @@ def test_matched_filter_reference_reproduces_skolnik_table():
 
 
 def test_received_pulse_width_rows(families):
-    c = _choices(families["received_pulse_width"])
+    c = families["received_pulse_width"].by_name
     # received_pulse_width_s: the root finds converge to round-off (stated: 1e-9 against mpmath)
     assert c["root_found"].error_vs_reference <= 1e-9
     assert abs(c["closed_form"].error_vs_reference - c["closed_form"].error_vs_exact) < 1e-9

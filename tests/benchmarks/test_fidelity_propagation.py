@@ -26,10 +26,6 @@ def families():
     return {f.key: f for f in fp.run(quick=True)}
 
 
-def _choices(family):
-    return {c.name: c for c in family.choices}
-
-
 def test_every_family_is_complete(families):
     assert set(families) == {"gas_attenuation", "rain_attenuation", "cloud_attenuation", "multipath_earth",
                              "multipath_roughness"}
@@ -38,11 +34,11 @@ def test_every_family_is_complete(families):
         assert fam.exact in names and fam.default in names and fam.domain and fam.reference and fam.fast_bound
         for c in fam.choices:
             assert c.seconds_per_eval > 0 and c.hlo_ops > 0
-        assert _choices(fam)[fam.exact].error_vs_exact == 0.0
+        assert fam.by_name[fam.exact].error_vs_exact == 0.0
 
 
 def test_gas_line_sum_against_mpmath_and_the_validation_examples(families):
-    c = _choices(families["gas_attenuation"])
+    c = families["gas_attenuation"].by_name
     line = c["itu_p676"]
     # a 79-line sum in float64 against the same equations at 30 digits
     assert fp.CHECKS["gas_exact_relative"] < 1e-13
@@ -55,7 +51,7 @@ def test_gas_line_sum_against_mpmath_and_the_validation_examples(families):
 
 def test_gas_closed_forms_meet_the_recommendations_stated_accuracy(families):
     fam = families["gas_attenuation"]
-    approx = _choices(fam)["itu_p676_approx"]
+    approx = fam.by_name["itu_p676_approx"]
     # about ±15 % on average (P.676-10 Annex 2 §1): here the worst point is inside it, and it is a fit,
     # not the line sum (a few % off on average)
     assert 0.05 < fp.CHECKS["gas_approx_worst_relative"] <= 0.15
@@ -69,7 +65,7 @@ def test_gas_closed_forms_meet_the_recommendations_stated_accuracy(families):
 
 
 def test_rain_against_mpmath_tables_and_the_validation_examples(families):
-    itu = _choices(families["rain_attenuation"])["itu_p838"]
+    itu = families["rain_attenuation"].by_name["itu_p838"]
     assert itu.error_vs_reference < 1e-12  # relative
     # 16 validation rows printed to 8-9 digits
     assert fp.CHECKS["rain_valex_package"] < 1e-7
@@ -77,7 +73,7 @@ def test_rain_against_mpmath_tables_and_the_validation_examples(families):
 
 
 def test_cloud_against_mpmath_and_the_validation_ratio(families):
-    itu = _choices(families["cloud_attenuation"])["itu_p840"]
+    itu = families["cloud_attenuation"].by_name["itu_p840"]
     assert itu.error_vs_reference < 1e-12  # relative
     assert fp.CHECKS["cloud_valex_ratio"] == pytest.approx(1.77246907 / 0.45516982, rel=1e-7)
 
@@ -99,7 +95,7 @@ def test_reference_geometry_is_exact_for_equal_heights():
 
 def test_multipath_curved_earth_within_the_bound_flat_earth_not(families):
     fam = families["multipath_earth"]
-    c = _choices(fam)
+    c = fam.by_name
     # Blake's cubic for the specular point against the root-found one: far below 0.01 dB
     assert c["curved"].error_vs_reference < 0.01
     # the flat earth misplaces the interference lobes over the grid (a model difference of tens of dB)
@@ -108,7 +104,7 @@ def test_multipath_curved_earth_within_the_bound_flat_earth_not(families):
 
 
 def test_multipath_roughness_models(families):
-    c = _choices(families["multipath_roughness"])
+    c = families["multipath_roughness"].by_name
     assert c["miller_brown_vegh"].error_vs_reference < 0.01
     # Ament's factor is smaller than Miller-Brown-Vegh's (exp(-x) < exp(-x) I0(x)): dB-level differences
     assert 0.5 < c["ament"].error_vs_reference < 20.0

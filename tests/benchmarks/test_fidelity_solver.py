@@ -27,10 +27,6 @@ def families():
     return {f.key: f for f in fs.run(quick=True)}
 
 
-def choice(family, name):
-    return next(c for c in family.choices if c.name == name)
-
-
 # --- the references, independently -------------------------------------------------------------
 
 
@@ -116,17 +112,17 @@ def test_every_family_is_complete(families):
         for c in f.choices:
             assert c.seconds_per_eval > 0 and c.hlo_ops > 100, (f.key, c)
             assert math.isfinite(c.error_vs_exact) and math.isfinite(c.error_vs_reference), (f.key, c)
-        assert choice(f, f.exact).error_vs_exact == 0.0
+        assert f.by_name[f.exact].error_vs_exact == 0.0
 
 
 def test_default_search_and_dense_recheck_find_the_multipath_null(families):
     f = families["solver_interval_null"]
     # the search polishes the grid's lowest minima to round-off (semi_infinite: value to round-off)
-    assert choice(f, "129 points + polish").error_vs_reference <= 1e-6
-    assert choice(f, "dense re-check (10,001 points)").error_vs_reference <= 1e-6
+    assert f.by_name["129 points + polish"].error_vs_reference <= 1e-6
+    assert f.by_name["dense re-check (10,001 points)"].error_vs_reference <= 1e-6
     # at a 60 m target height the 17- and 33-point grids put no point in the deepest null's basin
     for n in (17, 33):
-        assert choice(f, f"{n} points + polish").error_vs_reference > 1.0
+        assert f.by_name[f"{n} points + polish"].error_vs_reference > 1.0
     assert f.fast is None
 
 
@@ -134,12 +130,12 @@ def test_any_grid_finds_the_worst_point_of_a_monotone_margin(families):
     f = families["solver_interval_monotone"]
     # the worst point is the interval's end, a point of every grid: exact to round-off
     for n in (17, 33, 129):
-        assert choice(f, f"{n} points + polish").error_vs_reference <= 1e-9
+        assert f.by_name[f"{n} points + polish"].error_vs_reference <= 1e-9
 
 
 def test_chance_constraint_achieves_its_probability(families):
     f = families["solver_chance_samples"]
-    err = {n: choice(f, f"{n:,} samples").error_vs_reference
+    err = {n: f.by_name[f"{n:,} samples"].error_vs_reference
            for n in (256, 1024, 4096, 16384)}
     # the default within the bound its choice is argued on (below the 100,000-draw check's
     # resolution, 2.4e-3 at p = 0.9); the error falls as the sample grows
@@ -156,7 +152,7 @@ def test_trade_front_hypervolume_is_that_of_its_points_on_the_exact_front(famili
     exact = fs.exact_hypervolume(K_TRADE)
     deficits = []
     for n in (5, 10, 20, 30, 40):
-        c = choice(f, f"{n} points")
+        c = f.by_name[f"{n} points"]
         # the ε grid is even in d between the anchors (d = 1 and d_n), each point on P = K/d⁴
         d = np.linspace(1.0, dn, n)
         expected = 1.0 - fs.staircase_hypervolume(np.column_stack([K_TRADE / d ** 4, d]), K_TRADE) / exact
@@ -167,11 +163,11 @@ def test_trade_front_hypervolume_is_that_of_its_points_on_the_exact_front(famili
 
 def test_solver_error_falls_with_its_tolerance(families):
     f = families["solver_tolerance"]
-    al = [choice(f, f"AL, tol 1e-{k}").error_vs_reference for k in (4, 6, 8, 10)]
+    al = [f.by_name[f"AL, tol 1e-{k}"].error_vs_reference for k in (4, 6, 8, 10)]
     # the augmented Lagrangian: |f − f*|/f* within a factor 1000 of the tolerance, falling with it
     for e, tol in zip(al, (1e-4, 1e-6, 1e-8, 1e-10)):
         assert e <= 1e3 * tol
     assert all(a > b for a, b in zip(al, al[1:]))
     # the SQP converges superlinearly: at 1e-8 and tighter, to round-off
     for k in (8, 10):
-        assert choice(f, f"SQP, tol 1e-{k}").error_vs_reference <= 1e-10
+        assert f.by_name[f"SQP, tol 1e-{k}"].error_vs_reference <= 1e-10

@@ -183,13 +183,18 @@ def _check_inputs(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3, f_max
             )
 
 
-def _state(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3):
-    f, ptot, t, rho = jnp.broadcast_arrays(
+def _broadcast(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3):
+    """f (GHz), total pressure (hPa), T (K) and rho (g/m^3), as float arrays of one shape."""
+    return jnp.broadcast_arrays(
         jnp.asarray(freq_hz, dtype=float) / 1e9,
         jnp.asarray(pressure_hpa, dtype=float),
         jnp.asarray(temperature_k, dtype=float),
         jnp.asarray(water_vapour_g_m3, dtype=float),
     )
+
+
+def _state(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3):
+    f, ptot, t, rho = _broadcast(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3)
     theta = 300.0 / t
     e = rho * t / 216.7
     p = ptot - e
@@ -358,12 +363,7 @@ def _check_approx_inputs(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3
 
 def _approx_state(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3):
     """f (GHz), rp = p/1013, rt = 288/(273 + t) (t in °C) and rho, broadcast."""
-    f, p, t, rho = jnp.broadcast_arrays(
-        jnp.asarray(freq_hz, dtype=float) / 1e9,
-        jnp.asarray(pressure_hpa, dtype=float),
-        jnp.asarray(temperature_k, dtype=float),
-        jnp.asarray(water_vapour_g_m3, dtype=float),
-    )
+    f, p, t, rho = _broadcast(freq_hz, pressure_hpa, temperature_k, water_vapour_g_m3)
     return f, p / 1013.0, 288.0 / (t - 273.15 + 273.0), rho
 
 

@@ -171,6 +171,33 @@ def test_air_surveillance_optimum_is_feasible_beats_grid_and_has_closed_form_pow
     assert m0 < 0
 
 
+def test_fan_beam_surveillance_optimum_has_the_closed_form_of_its_aperture():
+    model, opt = optimum("air_surveillance_fan_beam")
+    check_meets_requirements_within_bounds(model, opt)
+    assert check_beats_grid_and_initial(model, opt, points=5) > 0
+    # the elevation beam binds: theta_el = k lambda / h = 4 deg (+ MARGIN), so h = k lambda / theta_el
+    spec_fixed = model.spec.fixed["clear"]
+    lam = SPEED_OF_LIGHT_M_S / spec_fixed["freq_hz"]
+    ih, iw, ip = (model.variable_names.index(n) for n in ("aperture_height_m", "aperture_width_m", "peak_power_w"))
+    h = 0.886 * lam / math.radians(4.0 + MARGIN)
+    assert opt.x[ih] == pytest.approx(h, rel=1e-9)
+    # G ∝ w h: margin_i = m_i0 + 10 log10(P/P0) + 20 log10(w/w0) + 20 log10(h/h0); the smaller
+    # initial margin binds, so P w² = K = P0 w0² (h0/h)² 10^((MARGIN − m0)/10), and min a P + b w
+    # on it gives w³ = 2 a K / b, a P = b w / 2
+    x0 = model.initial
+    m0 = min(float(v) for r, v in zip(model.requirements, model.evaluate_all(x0, model.combo_table[0])[1])
+             if r.output == "detection_margin_db")
+    terms = dict(model.spec.objective.terms)
+    a, b = terms["peak_power_w"], terms["aperture_width_m"]
+    k = x0[ip] * x0[iw] ** 2 * (x0[ih] / h) ** 2 * 10 ** ((MARGIN - m0) / 10)
+    w = (2 * a * k / b) ** (1 / 3)
+    assert opt.x[iw] == pytest.approx(w, rel=1e-9)
+    assert a * opt.x[ip] == pytest.approx(b * opt.x[iw] / 2, rel=1e-9)
+    # the fan beam: azimuth 1.32 deg (>= 1.0 deg, not binding) by 4 deg, 36.3 dB (the book's 36 dB)
+    values = requirement_values_at_optimum(model, opt)
+    assert values["clear.beamwidth_deg"] > 1.0 + 0.1
+
+
 # --- fire control (book 14.9 requirements; 13.4-13.6 and 14.6-14.7 tracking) ---------------------
 
 

@@ -60,13 +60,20 @@ class Antenna(NamedTuple):
 
 
 def antenna(scene, p, wavelength_m) -> Antenna:
-    """Option ``antenna``: a circular aperture (G = 4πρA/λ², θ = k λ/d, book eq 5.11) or a
-    specified gain and beamwidths."""
+    """Option ``antenna``: a circular aperture (G = 4πρA/λ², A = πd²/4, θ = k λ/d, book eq 5.11),
+    a rectangular aperture w wide and h high (G = 4πρ w h/λ², θ_az = k λ/w, θ_el = k λ/h: a fan
+    beam when h < w; Skolnik, *Radar Handbook* 3rd ed. ch. 9, Balanis *Antenna Theory* 4th ed.
+    §12.5: uniform illumination k = 0.886) or a specified gain and beamwidths."""
     if option(scene, "antenna") == "circular_aperture":
         d = p["antenna_diameter_m"]
         gain_db = db10(_ant.gain_from_aperture(_ant.circular_aperture_area_m2(d), wavelength_m, p["aperture_efficiency"]))
         bw = _ant.beamwidth_rad(wavelength_m, d, p["beamwidth_factor"])
         return Antenna(gain_db, bw, bw)
+    if option(scene, "antenna") == "rectangular_aperture":
+        w, h = p["aperture_width_m"], p["aperture_height_m"]
+        gain_db = db10(_ant.gain_from_aperture(w * h, wavelength_m, p["aperture_efficiency"]))
+        k = p["beamwidth_factor"]
+        return Antenna(gain_db, _ant.beamwidth_rad(wavelength_m, w, k), _ant.beamwidth_rad(wavelength_m, h, k))
     return Antenna(p["gain_db"], jnp.deg2rad(p["beamwidth_az_deg"]), jnp.deg2rad(p["beamwidth_el_deg"]))
 
 

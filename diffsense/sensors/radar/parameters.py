@@ -55,6 +55,16 @@ def _antenna_parameters(scene):
             Param("aperture_efficiency", "1", "aperture efficiency ρ in G = 4πρA/λ² (book 8.16.9.1: 0.7 Cassegrain)", 0.7, 0.0, 1.0, lo_open=True),
             Param("beamwidth_factor", "1", "k in θ3dB = k λ / d rad (default the book's 70λ/d deg, 1.2217)", BOOK_BEAMWIDTH_FACTOR, 0.5, 3.0),
         ]
+    if option(scene, "antenna") == "rectangular_aperture":
+        return [
+            Param("aperture_width_m", "m", "horizontal dimension w of a rectangular aperture (sets the azimuth "
+                  "beamwidth k λ / w)", None, 1e-3, 100.0),
+            Param("aperture_height_m", "m", "vertical dimension h of a rectangular aperture (sets the elevation "
+                  "beamwidth k λ / h); not the height above the sea (antenna_height_m)", None, 1e-3, 100.0),
+            Param("aperture_efficiency", "1", "aperture efficiency ρ in G = 4πρ w h/λ²", 0.7, 0.0, 1.0, lo_open=True),
+            Param("beamwidth_factor", "1", "k in θ3dB = k λ / (w or h) rad (default 0.886: uniform illumination, "
+                  "the rectangular aperture of the book's chapter 12 synthetic-aperture listing, asin(0.887 λ/d))", _ant.UNIFORM_RECTANGULAR_BEAMWIDTH_FACTOR, 0.5, 3.0),
+        ]
     return [
         Param("gain_db", "dB", "antenna gain G (book 9.9.1: 36 dB)", None, -10.0, 80.0),
         Param("beamwidth_az_deg", "deg", "azimuth 3 dB beamwidth (book 9.9.1: 1.25 deg)", None, 0.0, 90.0, lo_open=True),

@@ -54,7 +54,7 @@ OPTIONS = {
     "integration": ("noncoherent", ("noncoherent", "coherent")),
     "detectability": ("exact", ("exact", "book", "given", "shnidman", "albersheim", "barton")),
     "matched_filter": ("two_tuned", ("matched",) + tuple(FILTERS)),
-    "antenna": ("circular_aperture", ("circular_aperture", "specified")),
+    "antenna": ("circular_aperture", ("circular_aperture", "rectangular_aperture", "specified")),
     "gas_model": ("itu_p676", ("itu_p676", "itu_p676_approx", "specified")),
     "rain_model": ("itu_p838", ("itu_p838", "specified")),
     "rain_clutter_model": ("marshall_palmer", ("marshall_palmer", "specified")),

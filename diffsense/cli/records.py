@@ -56,14 +56,33 @@ def worst_point_text(row: dict) -> str:
     return f" (worst at {where}; {row['dense_points']} points re-checked)"
 
 
+_GOAL_STYLE = {"PASS": "green", "WARN": "yellow", "FAIL": "bold red"}
+
+
+def goal_text(row: dict) -> str:
+    """``"WARN (goal >= 3)"`` for a requirement row with a goal, ``""`` without one.
+
+    >>> goal_text({"sense": "at_least", "goal": 3.0, "goal_status": "WARN"})
+    'WARN (goal >= 3)'
+    """
+    if "goal" not in row:
+        return ""
+    return f"{row['goal_status']} (goal {SENSE_ASCII[row['sense']]} {fmt(row['goal'])})"
+
+
 def print_requirements(record: dict, reporter: Reporter) -> None:
+    """The requirements table; with a ``goal`` column (PASS / WARN / FAIL) when any has a goal."""
+    goals = any("goal" in row for row in record["requirements"])
     rows = []
     for row in record["requirements"]:
         met = Text("yes", style="green") if row["met"] else Text("NO", style="bold red")
-        rows.append((row["name"] + worst_point_text(row), fmt(row["value"]),
-                     f"{SENSE_ASCII[row['sense']]} {fmt(row['limit'])}", row["unit"], fmt(row["slack"]), met))
-    reporter.table("Requirements", ("requirement", "value", "limit", "unit", "slack", "met"), rows,
-                   right=("value", "limit", "slack"))
+        cells = (row["name"] + worst_point_text(row), fmt(row["value"]),
+                 f"{SENSE_ASCII[row['sense']]} {fmt(row['limit'])}", row["unit"], fmt(row["slack"]), met)
+        if goals:
+            cells += (Text(goal_text(row), style=_GOAL_STYLE.get(row.get("goal_status"), "")),)
+        rows.append(cells)
+    columns = ("requirement", "value", "limit", "unit", "slack", "met") + (("goal",) if goals else ())
+    reporter.table("Requirements", columns, rows, right=("value", "limit", "slack"))
 
 
 def print_probabilities(record: dict, reporter: Reporter) -> None:

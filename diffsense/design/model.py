@@ -45,6 +45,7 @@ from diffsense.design.intervals import IntervalRequirements
 from diffsense.design.kinds import RequirementKinds
 from diffsense.design.layout import InputLayout
 from diffsense.design.spec import Spec
+from diffsense.design.spec.types import goal_status
 from diffsense.scene import compute
 from diffsense.sensors.chain import Evaluation
 
@@ -470,6 +471,9 @@ class DesignModel:
             row = {"name": r.name, "case": r.case, "output": r.output, "value": float(v),
                    "limit": r.limit, "unit": r.unit, "sense": r.sense,
                    "met": bool(slack >= -tol * scale), "slack": float(slack)}
+            if r.goal is not None:
+                row["goal"] = r.goal
+                row["goal_status"] = goal_status(r.sense, float(v), r.limit, r.goal, row["met"])
             if r.over:
                 row["over"] = {iv.parameter: [iv.lower, iv.upper, iv.unit] for iv in r.over}
                 if j in checks:

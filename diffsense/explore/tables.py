@@ -31,8 +31,25 @@ STYLE = """
 """
 
 
+#: text colour of a goal chip: PASS (goal met), WARN (threshold only), FAIL
+GOAL_COLOURS = {"PASS": "#1b5e20", "WARN": "#8d6e00", "FAIL": "#b71c1c"}
+
+
+def _goal_cell(r: dict) -> str:
+    """The goal column of one row: a PASS / WARN / FAIL chip and the goal (empty without one)."""
+    if "goal" not in r:
+        return "<td></td>"
+    if r["status"] == "pending":
+        return f'<td>{SENSE_SYMBOLS[r["sense"]]} {fmt(r["goal"])}</td>'
+    fg = GOAL_COLOURS[r["goal_status"]]
+    return (f'<td data-goal="{r["goal_status"]}"><span class="ds-chip" style="color:{fg};border:1px solid {fg}">'
+            f'{r["goal_status"]}</span> {SENSE_SYMBOLS[r["sense"]]} {fmt(r["goal"])}</td>')
+
+
 def requirements_html(rows: List[dict]) -> str:
-    """The requirements with value, limit, slack and a met / active / unmet chip."""
+    """The requirements with value, limit, slack and a met / active / unmet chip; a goal column
+    (PASS / WARN / FAIL) when any requirement has a goal."""
+    goals = any("goal" in r for r in rows)
     body = []
     for r in rows:
         bg, fg = STOPLIGHT[r["status"]]
@@ -44,8 +61,10 @@ def requirements_html(rows: List[dict]) -> str:
             f'<td class="ds-num">{SENSE_SYMBOLS[r["sense"]]} {fmt(r["limit"])}</td>'
             f'<td>{escape(r["unit"])}</td>'
             f'<td class="ds-num" data-value="{r["slack"]!r}">{fmt(r["slack"])}</td>'
-            f'<td><span class="ds-chip" style="color:{fg};border:1px solid {fg}">{r["status"]}</span></td></tr>')
-    head = "<tr><th>requirement</th><th>value</th><th>limit</th><th>unit</th><th>slack</th><th>status</th></tr>"
+            f'<td><span class="ds-chip" style="color:{fg};border:1px solid {fg}">{r["status"]}</span></td>'
+            + (_goal_cell(r) if goals else "") + '</tr>')
+    head = ("<tr><th>requirement</th><th>value</th><th>limit</th><th>unit</th><th>slack</th><th>status</th>"
+            + ("<th>goal</th>" if goals else "") + "</tr>")
     return f'{STYLE}<table class="ds-table" id="ds-requirements">{head}{"".join(body)}</table>'
 
 

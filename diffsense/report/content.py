@@ -117,15 +117,21 @@ def _requirements(report: dict) -> List[tuple]:
     post = report.get("post_optimal") or {}
     shadow = {s["requirement"]: s for s in post.get("shadow_prices") or []}
     mult = {m["requirement"]: m["multiplier"] for m in report.get("multipliers") or []}
+    goals = any("goal" in r for r in report["requirements"])
     rows = []
     for r in report["requirements"]:
         s = shadow.get(r["name"], {})
-        rows.append([r["name"] + _worst_text(r), f"{r['case']}.{r['output']}", r["value"], f"{SENSE_SYMBOLS[r['sense']]} {fmt(r['limit'])}",
-                     unit_text(r["unit"]), r["slack"], r["met"], s.get("active", None) if s else None,
-                     mult.get(r["name"]), s.get("d_objective_d_limit")])
+        row = [r["name"] + _worst_text(r), f"{r['case']}.{r['output']}", r["value"], f"{SENSE_SYMBOLS[r['sense']]} {fmt(r['limit'])}",
+               unit_text(r["unit"]), r["slack"], r["met"]]
+        if goals:
+            row.append(f"{r['goal_status']}: {SENSE_SYMBOLS[r['sense']]} {fmt(r['goal'])}" if "goal" in r else "")
+        rows.append(row + [s.get("active", None) if s else None, mult.get(r["name"]), s.get("d_objective_d_limit")])
+    columns = ["requirement", "output", "value", "limit", "unit", "slack", "met"] + (["goal"] if goals else [])
     blocks = [("h2", "Requirements"),
-              ("table", ["requirement", "output", "value", "limit", "unit", "slack", "met", "active",
-                         "multiplier (optimiser, normalised)", "d objective / d limit"], rows)]
+              ("table", columns + ["active", "multiplier (optimiser, normalised)", "d objective / d limit"], rows)]
+    if goals:
+        blocks.append(("p", "goal: PASS where the design reaches the goal, WARN where it meets only the threshold "
+                            "(the limit the optimiser enforces), FAIL where it misses the threshold."))
     if shadow:
         unit = unit_text(report["objective"]["unit"]) or "objective units"
         blocks.append(("p", "d objective / d limit is the shadow price of each requirement: how much the optimal "

@@ -32,6 +32,7 @@ A spec says what a sensor must achieve and what the designer may change::
     output = "snr_margin_db"               # "<case>.<output>" when there are several cases
     at_least = "0 dB"                      # or at_most / equals
     probability = 0.95                     # optional: met with this probability over [uncertain]
+    goal = "3 dB"                          # optional: the objective beyond the threshold (PASS/WARN/FAIL)
     [objective]
     minimize = "antenna_diameter_m"        # a parameter, an output, "cost", or a weighted sum
                                            # { antenna_diameter_m = 1.0, cost = 0.1 }

@@ -4,8 +4,12 @@
     output = "snr_margin_db"      # "<case>.<output>" when the spec has several cases
     at_least = "0 dB"             # or at_most / equals, in the output's unit
     name = "detection margin"     # optional label (default: the output key)
+    goal = "3 dB"                 # optional objective beyond the threshold: PASS / WARN / FAIL
 
-A spec needs at least one requirement.
+A spec needs at least one requirement. ``goal`` (``at_least`` or ``at_most`` only) is the value the
+design should reach beyond the threshold: a requirement then reads PASS (goal met), WARN (only
+the threshold met) or FAIL, as the threshold and objective of MATLAB's Radar Designer; the
+optimiser meets the thresholds.
 """
 
 from __future__ import annotations
@@ -20,7 +24,7 @@ from diffsense.design.spec.uncertain import read_probability
 from diffsense.errors import SpecError
 from diffsense.scene import describe_command
 
-REQUIREMENT_KEYS = {"output", "name", "doc", "probability"} | set(SENSES) | OVER_KEYS
+REQUIREMENT_KEYS = {"output", "name", "doc", "probability", "goal"} | set(SENSES) | OVER_KEYS
 
 
 def read_requirements(file, raw: Mapping, cases: Cases, design_names=frozenset()) -> List[Requirement]:
@@ -51,4 +55,19 @@ def _requirement(file, key: str, r: Mapping, cases: Cases, design_names=frozense
     label = plain_text(file, f"{key}.name", r["name"]) if "name" in r else r["output"]
     over, points, worst = read_over(file, key, r, case, cases, design_names)
     probability = read_probability(file, key, r)
-    return Requirement(label, case, out, senses[0], limit, unit, over, points, worst, probability)
+    goal = _goal(file, key, r, senses[0], limit, unit)
+    return Requirement(label, case, out, senses[0], limit, unit, over, points, worst, probability, goal)
+
+
+def _goal(file, key: str, r: Mapping, sense: str, limit: float, unit: str):
+    """The requirement's ``goal`` in the output's unit (None when absent): beyond the threshold
+    on the side the sense asks for."""
+    if "goal" not in r:
+        return None
+    if sense == "equals":
+        raise SpecError(file, f"{key}.goal", "an equality has no goal beyond it; use at_least or at_most")
+    goal = quantity(file, f"{key}.goal", r["goal"], unit)
+    if (goal < limit) if sense == "at_least" else (goal > limit):
+        side = "at or above" if sense == "at_least" else "at or below"
+        raise SpecError(file, f"{key}.goal", f"must lie {side} the threshold {sense} = {limit:g} {unit}; got {goal:g} {unit}")
+    return goal

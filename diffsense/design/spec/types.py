@@ -19,6 +19,23 @@ SENSES = ("at_least", "at_most", "equals")
 #: each sense as a relation symbol (reports, the explorer) and in ASCII (the terminal)
 SENSE_SYMBOLS = {"at_least": "≥", "at_most": "≤", "equals": "="}
 SENSE_ASCII = {"at_least": ">=", "at_most": "<=", "equals": "="}
+#: the stoplight of a requirement with a goal: the goal met, only the threshold met, neither
+GOAL_STATUSES = ("PASS", "WARN", "FAIL")
+
+
+def goal_status(sense: str, value: float, limit: float, goal: float, met: bool) -> str:
+    """"PASS" when ``value`` meets the goal, "WARN" when it meets only the threshold (``met``, the
+    row's verdict on ``limit``), "FAIL" otherwise (Radar Designer's threshold and objective).
+
+    >>> goal_status("at_least", 2.5, 0.0, 3.0, True), goal_status("at_most", 0.8, 1.0, 0.5, True)
+    ('WARN', 'WARN')
+    >>> goal_status("at_least", 3.0, 0.0, 3.0, True), goal_status("at_least", -0.1, 0.0, 3.0, False)
+    ('PASS', 'FAIL')
+    """
+    if not met:
+        return "FAIL"
+    reached = value >= goal if sense == "at_least" else value <= goal
+    return "PASS" if reached else "WARN"
 #: the name of the one evaluation case of a spec without a ``[cases]`` table
 DEFAULT_CASE = "main"
 
@@ -73,6 +90,7 @@ class Requirement:
     over_points: Optional[int] = None  # search-grid points per parameter (None: default)
     over_worst: int = 3  # worst points kept as constraints
     probability: Optional[float] = None  # chance constraint: met with this probability (:mod:`.uncertain`)
+    goal: Optional[float] = None  # the objective value beyond the threshold ``limit`` (output unit; :func:`goal_status`)
 
 
 @dataclass(frozen=True)

@@ -206,6 +206,13 @@ _CORE_OUTPUTS = (
     Output("update_rate_hz", "Hz", "f_p / N"),
     Output("duty_cycle", "1", "τ f_p"),
     Output("average_power_w", "W", "Pt τ f_p"),
+    Output("eirp_dbw", "dBW", "effective isotropic radiated power 10 log10 Pt - L_tx + G (IEEE Std 686)"),
+    Output("power_aperture_w_m2", "W m**2", "power-aperture product Pav A_e, A_e = G λ²/(4π) the effective aperture "
+           "(the search radar equation's figure of merit, Barton 2013 §1.4)"),
+    Output("minimum_range_m", "m", "c τ / 2: an echo from nearer returns while the pulse is still being transmitted "
+           "(the receiver is blanked; Skolnik 2008 §1.2)"),
+    Output("first_blind_speed_mps", "m/s", "λ f_p / 2: the radial speed whose Doppler shift equals the PRF, blind "
+           "to pulse-to-pulse (MTI) cancellation (Skolnik 2008 §3.2)"),
     Output("if_gain_db", "dB", "IF gain needed for the weakest echo to reach TSS + margin (book 8.16.12)"),
 )
 

@@ -83,6 +83,20 @@ def test_chain_timing_outputs_closed_forms():
     assert abs(float(ev["snr_margin_db"]) - (float(ev["snr_db"]) - 10.0)) < 1e-12
 
 
+def test_chain_radar_designer_metrics_closed_forms():
+    # EIRP, power-aperture product, minimum range and first blind speed from their definitions
+    # (IEEE Std 686; Barton 2013 §1.4; Skolnik 2008 §1.2, §3.2), in mpmath
+    ev = EVAL_A(complete_parameters(SCENE_A, PARAMS_A))
+    f = {k: mp.mpf(str(v)) for k, v in PARAMS_A.items()}
+    lam = mp.mpf(SPEED_OF_LIGHT_M_S) / f["freq_hz"]
+    g = mp.mpf(10) ** (f["gain_db"] / 10)
+    assert abs(float(ev["eirp_dbw"]) - float(10 * mp.log10(f["peak_power_w"]) - f["transmit_loss_db"] + f["gain_db"])) < 1e-12
+    pa = f["peak_power_w"] * f["pulse_width_s"] * f["prf_hz"] * g * lam**2 / (4 * mp.pi)
+    assert float(ev["power_aperture_w_m2"]) == pytest.approx(float(pa), rel=1e-13)
+    assert float(ev["minimum_range_m"]) == pytest.approx(float(mp.mpf(SPEED_OF_LIGHT_M_S) * f["pulse_width_s"] / 2), rel=1e-15)
+    assert float(ev["first_blind_speed_mps"]) == pytest.approx(float(lam * f["prf_hz"] / 2), rel=1e-14)
+
+
 def test_chain_free_space_detection_range_closed_form():
     ev = EVAL_A(complete_parameters(SCENE_A, PARAMS_A))
     snr_1m = float(ev["snr_db"]) + 40 * math.log10(PARAMS_A["range_m"])

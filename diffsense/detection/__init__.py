@@ -1,5 +1,6 @@
 """Detection theory: thresholds, exact detection probability for Swerling 0-4, required SNR,
-approximations, losses, CA-CFAR and matched-filter mismatch.
+approximations, losses (fluctuation, integration, beam shape, array scan, straddle, eclipsing),
+CA-CFAR and matched-filter mismatch.
 
 Public contract: :func:`threshold`, :func:`pd`, :func:`required_snr_db` (other tools call them).
 ``swerling`` and ``method`` are static arguments; every other argument may be an array and is
@@ -10,6 +11,16 @@ from diffsense.detection.cfar import cfar_loss_db, cfar_multiplier, cfar_pd
 from diffsense.detection.core import pd_given_threshold
 from diffsense.detection.losses import fluctuation_loss_db, integration_gain_db, integration_loss_db
 from diffsense.detection.matched_filter import matched_filter_loss_db, optimum_bandwidth_time_product
+from diffsense.detection.scan_losses import (
+    beam_shape_loss_db,
+    doppler_straddle_loss_average_db,
+    doppler_straddle_loss_db,
+    eclipsing_loss_average_db,
+    eclipsing_loss_db,
+    range_straddle_loss_average_db,
+    range_straddle_loss_db,
+    scan_sector_loss_db,
+)
 from diffsense.detection.probability import db_to_linear, linear_to_db, pd, pd_coherent
 from diffsense.detection.required_snr import (
     BOOK_SDLA_EXTRA_PULSES,
@@ -50,6 +61,14 @@ __all__ = [
     "cfar_loss_db",
     "matched_filter_loss_db",
     "optimum_bandwidth_time_product",
+    "beam_shape_loss_db",
+    "scan_sector_loss_db",
+    "range_straddle_loss_db",
+    "range_straddle_loss_average_db",
+    "doppler_straddle_loss_db",
+    "doppler_straddle_loss_average_db",
+    "eclipsing_loss_db",
+    "eclipsing_loss_average_db",
     "db_to_linear",
     "linear_to_db",
 ]

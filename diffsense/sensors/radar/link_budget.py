@@ -30,6 +30,7 @@ import jax
 import jax.numpy as jnp
 
 from diffsense import detection as _det
+from diffsense.detection.scan_losses import beam_shape_loss_db
 from diffsense.errors import DomainError
 from diffsense.numerics.checks import check_range, is_concrete
 from diffsense.numerics.db import DB_PER_NEPER, db10, from_db10
@@ -88,6 +89,16 @@ def matched_filter_loss_db(scene, p):
         lo, hi = (0.01, 2.86) if mf == "rectangular" else (0.01, 50.0)
         check_range("bandwidth_hz * pulse_width_s", bt, lo, hi, where=f"radar chain, matched_filter={mf!r}")
     return _det.matched_filter_loss_db(bt, mf)
+
+
+def scan_loss_db(scene, p):
+    """The beam-shape (scanning) loss, dB: the spec's ``scan_loss_db`` (option ``scan_loss_model =
+    "given"``) or the Gaussian beam's SNR-averaged loss over ``beam_spacing`` beamwidths in one or
+    two scanned axes (:func:`diffsense.detection.scan_losses.beam_shape_loss_db`)."""
+    model = option(scene, "scan_loss_model")
+    if model == "given":
+        return p["scan_loss_db"]
+    return beam_shape_loss_db(p["beam_spacing"], dims=1 if model == "beam_shape_1d" else 2)
 
 
 def received_width_s(scene, p):
@@ -178,7 +189,7 @@ class Link:
             ("wavelength_db", 2.0 * db10(wavelength_m) - eq.FOUR_PI_CUBED_DB),
             ("rcs_dbsm", db10(p["rcs_m2"])),
         ]
-        self.loss_terms = [("scan_loss_db", -p["scan_loss_db"])]
+        self.loss_terms = [("scan_loss_db", -scan_loss_db(scene, p))]
         if mf_loss is not None:
             self.loss_terms.append(("matched_filter_loss_db", -mf_loss))
         self.loss_terms += [("cfar_loss_db", -p["cfar_loss_db"]), ("misc_loss_db", -p["misc_loss_db"])]

@@ -65,6 +65,7 @@ OPTIONS = {
     "sea_clutter_model": ("nrl", ("nrl", "constant_gamma")),
     "noise_input": ("figure", ("figure", "temperature")),
     "geometry": ("auto", ("auto", "earth_surface", "shaft")),
+    "scan_loss_model": ("given", ("given", "beam_shape_1d", "beam_shape_2d")),
 }
 
 

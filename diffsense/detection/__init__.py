@@ -1,5 +1,6 @@
 """Detection theory: thresholds, exact detection probability for Swerling 0-4, required SNR,
-approximations, losses (fluctuation, integration, beam shape, array scan, straddle, eclipsing),
+approximations, losses (fluctuation, integration, beam shape, array scan, straddle, eclipsing,
+MTI, STC, quantisation), blind speeds, cumulative detection probability,
 CA-CFAR and matched-filter mismatch.
 
 Public contract: :func:`threshold`, :func:`pd`, :func:`required_snr_db` (other tools call them).
@@ -9,6 +10,16 @@ broadcast, and every function is jit/vmap/grad-able.
 
 from diffsense.detection.cfar import cfar_loss_db, cfar_multiplier, cfar_pd
 from diffsense.detection.core import pd_given_threshold
+from diffsense.detection.cumulative import closing_target_ranges_m, cumulative_pd, cumulative_pd_closing
+from diffsense.detection.mti import (
+    blind_speeds_mps,
+    first_blind_speed_mps,
+    mti_blind_phase_loss_db,
+    mti_integration_loss_db,
+    mti_noise_gain,
+    mti_velocity_response,
+)
+from diffsense.detection.receiver_losses import quantisation_loss_db, quantisation_noise_db, stc_gain_db, stc_loss_db
 from diffsense.detection.losses import fluctuation_loss_db, integration_gain_db, integration_loss_db
 from diffsense.detection.matched_filter import matched_filter_loss_db, optimum_bandwidth_time_product
 from diffsense.detection.scan_losses import (
@@ -69,6 +80,19 @@ __all__ = [
     "doppler_straddle_loss_average_db",
     "eclipsing_loss_db",
     "eclipsing_loss_average_db",
+    "cumulative_pd",
+    "cumulative_pd_closing",
+    "closing_target_ranges_m",
+    "blind_speeds_mps",
+    "first_blind_speed_mps",
+    "mti_velocity_response",
+    "mti_noise_gain",
+    "mti_integration_loss_db",
+    "mti_blind_phase_loss_db",
+    "stc_gain_db",
+    "stc_loss_db",
+    "quantisation_noise_db",
+    "quantisation_loss_db",
     "db_to_linear",
     "linear_to_db",
 ]

@@ -49,7 +49,6 @@ from functools import partial
 import jax
 import jax.numpy as jnp
 from jax.custom_derivatives import SymbolicZero
-from jax.scipy.special import ndtri
 
 from diffsense.errors import DomainError
 from diffsense.numerics.db import DB_PER_NEPER, db10, from_db10

@@ -59,14 +59,18 @@ Pd series and the range root finds that no wanted output needs are left out of t
 
 from __future__ import annotations
 
+import jax
 import jax.numpy as jnp
 
+from diffsense.detection.cumulative import cumulative_pd_closing
 from diffsense.errors import DomainError
+from diffsense.numerics.checks import is_concrete
 from diffsense.numerics.rootfind import decreasing_root_log
 from diffsense.physics.antennas import wavelength_m
 from diffsense.sensors.chain import Chain, Evaluation, needs
 from diffsense.sensors.radar.detectability import (
     detection_margin_db,
+    pd_at,
     pd_outputs,
     range_bracket,
     required_snr,
@@ -74,7 +78,7 @@ from diffsense.sensors.radar.detectability import (
 )
 from diffsense.sensors.radar.interference import Interference, check_sea_clutter_domain
 from diffsense.sensors.radar.link_budget import Link, antenna, check_inside_horizon, link_outputs
-from diffsense.sensors.radar.parameters import radar_outputs, radar_parameters
+from diffsense.sensors.radar.parameters import MAX_LOOKS, radar_outputs, radar_parameters
 from diffsense.sensors.radar.structure import (
     ATTENUATION_PARTS,
     CLUTTER_PARTS,
@@ -109,6 +113,9 @@ class RadarChain(Chain):
                 "radar scene: coherent integration needs echoes that keep their phase over the pulses; "
                 "Swerling 2 and 4 decorrelate from pulse to pulse (use integration='noncoherent')"
             )
+        if scene.has("closing_target") and option(scene, "detectability") == "given":
+            raise DomainError("radar scene: the part closing_target needs a detection model for Pd at each look; "
+                              "detectability='given' writes only the required SNR (use 'exact')")
         surface = [part for part in SURFACE_PARTS if scene.has(part)]
         if surface and not looks_along_surface(scene):
             raise DomainError(f"radar scene: the parts {surface} need a radar looking along the sea surface; "
@@ -152,9 +159,31 @@ class RadarChain(Chain):
         sjnr0 = interference.sjnr_db(r0, s0) if needs(wanted, "pd") else None
         values.update(pd_outputs(scene, p, wanted, snr, sjnr0, req))
         values.update(interference.outputs(r0, s0, mp0, req_scr, wanted))
+        if scene.has("closing_target") and needs(wanted, "cumulative_pd"):
+            values["cumulative_pd"] = self._cumulative_pd(scene, p, link, interference, req)
         if scene.has("tracking") and needs(wanted, *TRACKING_OUTPUTS):
             values.update(tracking_outputs(scene, p, snr, ant.beamwidth_az_rad, link.received_width_s))
         return Evaluation(budget, {name: values[name] for name in radar_outputs(scene) if name in values})
+
+    @staticmethod
+    def _cumulative_pd(scene, p, link, interference, req):
+        """1 − Π(1 − Pd(R_i)) over the looks R_i = range_m + i v T ≤ first_look_range_m (at most
+        :data:`MAX_LOOKS`; :func:`diffsense.detection.cumulative.cumulative_pd_closing`)."""
+        r0, v, t, first = p["range_m"], p["closing_speed_mps"], p["scan_period_s"], p["first_look_range_m"]
+        if all(is_concrete(x) for x in (r0, v, t, first)):
+            with jax.ensure_compile_time_eval():
+                looks = jnp.floor((jnp.asarray(first) - r0) / (jnp.asarray(v) * t)) + 1
+                worst = float(jnp.max(looks))
+            if worst > MAX_LOOKS:
+                raise DomainError(f"radar chain, closing_target: {worst:.0f} looks from first_look_range_m to range_m "
+                                  f"at closing_speed_mps x scan_period_s; at most {MAX_LOOKS}")
+            if bool(jnp.any(jnp.asarray(first) < r0)):
+                raise DomainError("radar chain, closing_target: 'first_look_range_m' must not be less than 'range_m'")
+
+        def pd_of_range(r):
+            return pd_at(scene, p, interference.sjnr_db(r, link.signal_dbw(r)[0]), req)
+
+        return cumulative_pd_closing(pd_of_range, r0, v, t, first, max_scans=MAX_LOOKS)
 
     @staticmethod
     def _ranges(scene, p, wanted, link, interference, margin_db, required_snr_db):

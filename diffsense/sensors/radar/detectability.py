@@ -47,7 +47,7 @@ from diffsense.sensors.radar import equation as eq
 from diffsense.sensors.radar.structure import option
 
 __all__ = ["USES_REQUIRED_SNR", "Requirement", "required_snr", "detection_margin_db", "requirement_outputs",
-           "pd_outputs", "range_bracket"]
+           "pd_at", "pd_outputs", "range_bracket"]
 
 #: outputs that depend on the required per-pulse SNR (an exact detectability solve)
 USES_REQUIRED_SNR = ("required_snr_db", "snr_margin_db", "faded_snr_margin_db", "detection_margin_db",
@@ -119,6 +119,17 @@ def requirement_outputs(p, snr_db, required_snr_db, margin_at_range_db):
     return values
 
 
+def pd_at(scene, p, sjnr_db, req: Requirement):
+    """Pd for the per-pulse S/(N + J) ``sjnr_db`` (dB, any shape): the exact noncoherent series
+    over ``n_pulses``, or the single-pulse Pd of the integrated SNR (SNR clipped to [-50, 80] dB,
+    where Pd is 0 or 1 to float64)."""
+    swerling = option(scene, "swerling")
+    n = p["n_pulses"]
+    if option(scene, "detectability") in SOLVED_METHODS and option(scene, "integration") == "noncoherent":
+        return _det.pd(jnp.clip(sjnr_db, *_PD_SNR_DB), p["pfa"], n, swerling)
+    return _det.pd(jnp.clip(sjnr_db + req.integration_gain_db, *_PD_SNR_DB), p["pfa"], jnp.ones_like(n), swerling)
+
+
 def pd_outputs(scene, p, wanted, snr_db, sjnr_db, req: Requirement):
     """Pd against noise and jamming, the integration gain and, for the book's rule, the pulses
     needed in the deepest RCS fade designed for (``rcs_fade_db``); nothing for ``"given"``.
@@ -126,16 +137,8 @@ def pd_outputs(scene, p, wanted, snr_db, sjnr_db, req: Requirement):
     values = {}
     if option(scene, "detectability") == "given":
         return values
-    swerling = option(scene, "swerling")
-    exact_noncoherent = (option(scene, "detectability") in SOLVED_METHODS
-                         and option(scene, "integration") == "noncoherent")
     if needs(wanted, "pd"):
-        n = p["n_pulses"]
-        if exact_noncoherent:
-            values["pd"] = _det.pd(jnp.clip(sjnr_db, *_PD_SNR_DB), p["pfa"], n, swerling)
-        else:
-            values["pd"] = _det.pd(jnp.clip(sjnr_db + req.integration_gain_db, *_PD_SNR_DB), p["pfa"],
-                                   jnp.ones_like(n), swerling)
+        values["pd"] = pd_at(scene, p, sjnr_db, req)
     if req.integration_gain_db is not None:
         values["integration_gain_db"] = req.integration_gain_db
         values["integrated_snr_db"] = snr_db + req.integration_gain_db

@@ -11,7 +11,10 @@ from diffsense.physics import tracking as _trk
 from diffsense.sensors.chain import Output, Param, collect
 from diffsense.sensors.radar.structure import ATTENUATION_PARTS, CLUTTER_PARTS, clutter_parts_present, option
 
-__all__ = ["BOOK_BEAMWIDTH_FACTOR", "radar_parameters", "radar_outputs"]
+__all__ = ["BOOK_BEAMWIDTH_FACTOR", "MAX_LOOKS", "radar_parameters", "radar_outputs"]
+
+#: the looks a closing target may get (a static bound: the program evaluates Pd at this many ranges)
+MAX_LOOKS = 64
 
 #: The book's circular-aperture beamwidth rule θ = 70 λ/d degrees, as a factor on λ/d (rad).
 BOOK_BEAMWIDTH_FACTOR = _ant.BOOK_CIRCULAR_BEAMWIDTH_DEG_FACTOR * math.pi / 180.0
@@ -186,12 +189,25 @@ def _tracking_parameters(scene):
     ]
 
 
+def _closing_target_parameters(scene):
+    if not scene.has("closing_target"):
+        return []
+    return [
+        Param("closing_speed_mps", "m/s", "closing (radial) speed of the target", None, 0.0, 1e4, lo_open=True,
+              part="closing_target"),
+        Param("scan_period_s", "s", "time between looks at the target (antenna scan period)", None, 0.0, 1e4,
+              lo_open=True, part="closing_target"),
+        Param("first_look_range_m", "m", "range of the target's first look (the horizon, or where it appears); "
+              f"at most {MAX_LOOKS} looks from there to range_m", None, 1.0, 1e7, part="closing_target"),
+    ]
+
+
 def radar_parameters(scene):
     """``{name: Param}`` of a radar scene, in a fixed order: core, antenna, detectability, path,
     clutter, jammer, tracking."""
     return collect(_core_parameters(scene) + _antenna_parameters(scene) + _detectability_parameters(scene)
                    + _path_parameters(scene) + _clutter_parameters(scene) + _jammer_parameters(scene)
-                   + _tracking_parameters(scene))
+                   + _tracking_parameters(scene) + _closing_target_parameters(scene))
 
 
 _CORE_OUTPUTS = (
@@ -279,6 +295,10 @@ def _interference_outputs(scene):
 def radar_outputs(scene):
     """``{name: Output}`` of a radar scene."""
     outs = list(_CORE_OUTPUTS) + _detection_outputs(scene) + _interference_outputs(scene)
+    if scene.has("closing_target") and option(scene, "detectability") != "given":
+        outs.append(Output("cumulative_pd", "1", "probability that at least one look detects the closing target by "
+                           "range_m, 1 - Π(1 - Pd(R_i)) over the looks R_i = range_m + i v T up to first_look_range_m "
+                           "(Pd against noise and jamming at each)"))
     if scene.has("tracking"):
         outs += list(_TRACKING_OUTPUTS)
     return {out.name: out for out in outs}

@@ -38,6 +38,8 @@ PARTS = {
     "wall_clutter": "shaft-wall clutter of the ore pass in the range gate (the received echo's width) seen by the "
                     "beam and its sidelobes (book 8.16.6)",
     "multipath": "two-ray sea multipath on the target path, 40 log10|F| (Blake 1986)",
+    "closing_target": "a target closing at a constant speed, seen once per scan from a first-look range: the "
+                      "cumulative detection probability by range_m (Mallett & Brennan 1963)",
     "jammer": "noise jammer, self-screening or stand-off (book 9.10)",
     "tracking": "range (alpha-beta filter, split gate) and angle (type-2 servo, monopulse) tracking errors at range_m (book 13.4-13.6, 14.6-14.7)",
 }

@@ -20,6 +20,7 @@ from diffsense.detection.mti import (
     mti_velocity_response,
 )
 from diffsense.detection.receiver_losses import quantisation_loss_db, quantisation_noise_db, stc_gain_db, stc_loss_db
+from diffsense.detection.gaussian import gaussian_detection_probability, gaussian_required_deflection
 from diffsense.detection.losses import fluctuation_loss_db, integration_gain_db, integration_loss_db
 from diffsense.detection.matched_filter import matched_filter_loss_db, optimum_bandwidth_time_product
 from diffsense.detection.scan_losses import (
@@ -93,6 +94,8 @@ __all__ = [
     "stc_loss_db",
     "quantisation_noise_db",
     "quantisation_loss_db",
+    "gaussian_detection_probability",
+    "gaussian_required_deflection",
     "db_to_linear",
     "linear_to_db",
 ]

@@ -54,6 +54,8 @@ Sources
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -67,6 +69,9 @@ __all__ = [
     "cumulative_pd",
     "closing_target_ranges_m",
     "cumulative_pd_closing",
+    "Looks",
+    "closing_looks",
+    "cumulative_pd_of_looks",
     "swerling1_single_scan_pd",
 ]
 
@@ -196,7 +201,26 @@ def cumulative_pd_closing(pd_of_range, range_m, closing_speed_mps, scan_period_s
     >>> float(cumulative_pd_closing(pd1, 20e3, 300.0, 10.0, 40e3, max_scans=16)), ref
     (0.766912, 0.766912)
     """
-    where = "cumulative_pd_closing"
+    looks = closing_looks(range_m, closing_speed_mps, scan_period_s, start_range_m, max_scans,
+                          where="cumulative_pd_closing")
+    return cumulative_pd_of_looks(pd_of_range(looks.ranges_m), looks)
+
+
+class Looks(NamedTuple):
+    """The looks at a closing target (:func:`closing_looks`): ``max_scans`` ranges (m, last axis),
+    which of them count, and where the arguments lie in the domain."""
+
+    ranges_m: jnp.ndarray
+    mask: jnp.ndarray
+    ok: jnp.ndarray
+
+
+def closing_looks(range_m, closing_speed_mps, scan_period_s, start_range_m, max_scans: int = DEFAULT_MAX_SCANS,
+                  where: str = "closing_looks") -> Looks:
+    """The looks of :func:`cumulative_pd_closing`: ranges ``R + i v T`` for i < ``max_scans``
+    (static), masked to those within ``start_range_m``; arguments that need more looks than
+    ``max_scans`` raise :class:`DomainError` when concrete and are marked outside the domain
+    (``ok`` False: NaN downstream) when traced."""
     if isinstance(max_scans, bool) or not isinstance(max_scans, (int, np.integer)) or max_scans < 1:
         raise DomainError(f"{where}: argument 'max_scans' must be an int >= 1 (static); got {max_scans!r}")
     r, v, t, r0 = jnp.broadcast_arrays(*as_float(range_m, closing_speed_mps, scan_period_s, start_range_m))
@@ -215,9 +239,13 @@ def cumulative_pd_closing(pd_of_range, range_m, closing_speed_mps, scan_period_s
     i = jnp.arange(int(max_scans), dtype=r.dtype)
     offsets = i * step[..., None]
     mask = offsets <= reach[..., None]
-    ranges = jnp.where(mask, r[..., None] + offsets, r[..., None])
-    p = jnp.where(mask, pd_of_range(ranges), 0.0)
-    return guard(cumulative_pd(p), ok)
+    return Looks(jnp.where(mask, r[..., None] + offsets, r[..., None]), mask, ok)
+
+
+def cumulative_pd_of_looks(pd_looks, looks: Looks):
+    """``1 - prod(1 - Pd)`` over the looks that count (``pd_looks``: the single-look Pd at
+    ``looks.ranges_m``); NaN where the looks' arguments lie outside the domain."""
+    return guard(cumulative_pd(jnp.where(looks.mask, pd_looks, 0.0)), looks.ok)
 
 
 @jax.custom_jvp

@@ -22,6 +22,7 @@ BASE = dict(
     prf_hz=2e3, n_pulses=12.0, antenna_diameter_m=1.5, jammer_power_w=5.0, jammer_gain_db=3.0,
     jammer_bandwidth_hz=50e6, target_height_m=20.0, antenna_height_m=15.0,
     track_alpha=0.5, servo_bandwidth_hz=3.0, positioner_resonance_hz=30.0,
+    closing_speed_mps=250.0, scan_period_s=4.0, first_look_range_m=18e3,
 )
 CLEAR = Scene("radar", [], {"swerling": 1})
 FULL = Scene("radar", list(PARTS), {"swerling": 1})

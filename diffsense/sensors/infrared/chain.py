@@ -6,7 +6,7 @@ BLIP, NETD (:mod:`.detector`); blackbody band radiances in energy and photon uni
 :mod:`diffsense.physics.radiance`, NEP from D* in :mod:`diffsense.physics.noise`.
 
 Detection uses the Gaussian-shift statistic of
-:func:`diffsense.sensors.radiometer.gaussian_detection_probability` (Pd = Q(Q⁻¹(Pfa) − SNR));
+:func:`diffsense.detection.gaussian.gaussian_detection_probability` (Pd = Q(Q⁻¹(Pfa) − SNR));
 ``snr_db = 10 log10 SNR`` with SNR = P/NEP (Brooker, *Introduction to Sensors for Ranging and
 Imaging*, §9.1.3.5). Sources: Hudson, *Infrared System Engineering* (1969) §11.2; Dereniak &
 Boreman, *Infrared Detectors and Systems* (1996) §5.3, §11.
@@ -18,8 +18,8 @@ import math
 
 import jax.numpy as jnp
 import numpy as np
-from jax.scipy.special import ndtr, ndtri
 
+from diffsense.detection.gaussian import gaussian_pd, gaussian_required_deflection
 from diffsense.numerics.checks import check_range, is_concrete
 from diffsense.numerics.db import db10, from_db10
 from diffsense.numerics.rootfind import decreasing_root_log
@@ -214,7 +214,7 @@ class InfraredChain(Chain):
             b.add(name, value)
         budget = b.build()
         snr_db = budget.total
-        required_db = db10(ndtri(p["pd"]) - ndtri(p["pfa"]))
+        required_db = db10(gaussian_required_deflection(p["pd"], p["pfa"]))
 
         def residual(r):
             return sum(v for _, v in snr_terms(r)) - required_db
@@ -231,7 +231,7 @@ class InfraredChain(Chain):
             "snr_db": snr_db,
             "required_snr_db": required_db,
             "snr_margin_db": snr_db - required_db,
-            "pd": ndtr(from_db10(snr_db) + ndtri(p["pfa"])),
+            "pd": gaussian_pd(from_db10(snr_db), p["pfa"]),
         }
         if needs(wanted, "detection_range_m"):
             values["detection_range_m"] = decreasing_root_log(residual, *_DETECTION_BRACKET_M).root

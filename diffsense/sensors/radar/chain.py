@@ -62,7 +62,7 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 
-from diffsense.detection.cumulative import cumulative_pd_closing
+from diffsense.detection.cumulative import cumulative_pd_of_looks
 from diffsense.errors import DomainError
 from diffsense.numerics.checks import is_concrete
 from diffsense.numerics.rootfind import decreasing_root_log
@@ -78,12 +78,14 @@ from diffsense.sensors.radar.detectability import (
 )
 from diffsense.sensors.radar.interference import Interference, check_sea_clutter_domain
 from diffsense.sensors.radar.link_budget import Link, antenna, check_inside_horizon, link_outputs
-from diffsense.sensors.radar.parameters import MAX_LOOKS, radar_outputs, radar_parameters
+from diffsense.sensors.radar import parts
+from diffsense.sensors.radar.parameters import radar_outputs, radar_parameters
 from diffsense.sensors.radar.structure import (
     ATTENUATION_PARTS,
     CLUTTER_PARTS,
     OPTIONS,
     PARTS,
+    MAX_LOOKS,
     SURFACE_PARTS,
     clutter_parts_present,
     looks_along_surface,
@@ -180,10 +182,9 @@ class RadarChain(Chain):
             if bool(jnp.any(jnp.asarray(first) < r0)):
                 raise DomainError("radar chain, closing_target: 'first_look_range_m' must not be less than 'range_m'")
 
-        def pd_of_range(r):
-            return pd_at(scene, p, interference.sjnr_db(r, link.signal_dbw(r)[0]), req)
-
-        return cumulative_pd_closing(pd_of_range, r0, v, t, first, max_scans=MAX_LOOKS)
+        looks = parts.closing_target_looks(r0, v, t, first)
+        r = looks.ranges_m
+        return cumulative_pd_of_looks(pd_at(scene, p, interference.sjnr_db(r, link.signal_dbw(r)[0]), req), looks)
 
     @staticmethod
     def _ranges(scene, p, wanted, link, interference, margin_db, required_snr_db):

@@ -9,12 +9,9 @@ import math
 from diffsense.physics import antennas as _ant
 from diffsense.physics import tracking as _trk
 from diffsense.sensors.chain import Output, Param, collect
-from diffsense.sensors.radar.structure import ATTENUATION_PARTS, CLUTTER_PARTS, clutter_parts_present, option
+from diffsense.sensors.radar.structure import ATTENUATION_PARTS, CLUTTER_PARTS, MAX_LOOKS, clutter_parts_present, option
 
 __all__ = ["BOOK_BEAMWIDTH_FACTOR", "MAX_LOOKS", "radar_parameters", "radar_outputs"]
-
-#: the looks a closing target may get (a static bound: the program evaluates Pd at this many ranges)
-MAX_LOOKS = 64
 
 #: The book's circular-aperture beamwidth rule θ = 70 λ/d degrees, as a factor on λ/d (rad).
 BOOK_BEAMWIDTH_FACTOR = _ant.BOOK_CIRCULAR_BEAMWIDTH_DEG_FACTOR * math.pi / 180.0

@@ -21,8 +21,10 @@ from diffsense.physics.propagation.dust import (
 )
 from diffsense.physics.propagation.gas import gas_attenuation_approx_db_per_km, gas_attenuation_db_per_km
 from diffsense.physics.propagation.rain import rain_attenuation_db_per_km
+from diffsense.detection.cumulative import closing_looks
 from diffsense.sensors.parts import scene_part
 from diffsense.sensors.radar import equation as eq
+from diffsense.sensors.radar.structure import MAX_LOOKS
 
 __all__ = [
     "gas_itu_attenuation_db_km",
@@ -218,3 +220,11 @@ def angle_tracking_errors(bandwidth_hz, beamwidth_rad, prf_hz, bandwidth_pulse_p
     beta_o = _trk.servo_optimal_bandwidth_hz(beamwidth_rad, prf_hz, bandwidth_pulse_product, snr_db, acceleration_m_s2,
                                              range_m, monopulse_slope)
     return noise, lag, total, beta_o
+
+
+@scene_part("closing_target")
+def closing_target_looks(range_m, closing_speed_mps, scan_period_s, first_look_range_m):
+    """The looks at a closing target, range_m + i v T up to first_look_range_m, as
+    :data:`MAX_LOOKS` masked ranges (:func:`diffsense.detection.cumulative.closing_looks`)."""
+    return closing_looks(range_m, closing_speed_mps, scan_period_s, first_look_range_m, MAX_LOOKS,
+                         where="radar chain, closing_target")

@@ -43,6 +43,8 @@ PARTS = {
     "jammer": "noise jammer, self-screening or stand-off (book 9.10)",
     "tracking": "range (alpha-beta filter, split gate) and angle (type-2 servo, monopulse) tracking errors at range_m (book 13.4-13.6, 14.6-14.7)",
 }
+#: the looks a closing target may get (a static bound: the program evaluates Pd at this many ranges)
+MAX_LOOKS = 64
 #: parts that attenuate the path (one-way specific attenuation in dB/km, uniform along the path)
 ATTENUATION_PARTS = ("gas", "rain", "fog", "dust")
 #: parts that add clutter to the target's resolution cell

@@ -45,11 +45,8 @@ from diffsense.sensors.radiometer.brightness import (
     _through_layer,
     apparent_temperature_k,
 )
-from diffsense.sensors.radiometer.sensitivity import (
-    _gaussian_pd,
-    gaussian_required_deflection,
-    unbalanced_dicke_delta_t_k,
-)
+from diffsense.detection.gaussian import gaussian_pd, gaussian_required_deflection
+from diffsense.sensors.radiometer.sensitivity import unbalanced_dicke_delta_t_k
 
 __all__ = [
     "RadiometerChain",
@@ -333,7 +330,7 @@ class RadiometerChain(Chain):
             "snr_db": snr_db,
             "required_snr_db": required_db,
             "snr_margin_db": snr_db - required_db,
-            "pd": _gaussian_pd(from_db10(snr_db), p["pfa"]),
+            "pd": gaussian_pd(from_db10(snr_db), p["pfa"]),
         }
         if needs(wanted, "detection_range_m"):
             values["detection_range_m"] = decreasing_root_log(residual, *_DETECTION_BRACKET_M).root

@@ -21,8 +21,8 @@ from typing import Dict
 
 import jax.numpy as jnp
 import numpy as np
-from jax.scipy.special import ndtr, ndtri
 
+from diffsense.detection.gaussian import gaussian_pd
 from diffsense.detection.single_pulse import single_pulse_pd, single_pulse_required_snr_db
 from diffsense.errors import DomainError
 from diffsense.numerics.db import db10, from_db10, from_db20, increment_db, power_sum_db
@@ -471,7 +471,7 @@ class SonarChain(Chain):
         required = detection_threshold_energy_db(d_req, p["bandwidth_hz"], p["integration_time_s"]) - db10(p["bandwidth_hz"])
         # achieved index d = (S/N)^2 B t ; sqrt(d) = (S/N) sqrt(Bt)
         root_d = from_db10(jnp.clip(snr, -300.0, 300.0)) * jnp.sqrt(bt)
-        return required, ndtr(root_d + ndtri(p["pfa"])), d_req
+        return required, gaussian_pd(root_d, p["pfa"]), d_req
 
     def _active_values(self, p, env, extra, snr):
         """Outputs of the active mode: echo, target strength, resolutions and timing."""

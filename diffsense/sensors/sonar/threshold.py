@@ -18,8 +18,9 @@ from __future__ import annotations
 
 import jax.numpy as jnp
 import numpy as np
-from jax.scipy.special import ndtr, ndtri
+from jax.scipy.special import ndtri
 
+from diffsense.detection.gaussian import gaussian_pd
 from diffsense import detection
 from diffsense.numerics.checks import check_range, is_concrete
 from diffsense.numerics.db import db10
@@ -41,6 +42,11 @@ def _check_pd_pfa(where, pd, pfa):
         check_range("pd - pfa", gap, 0.0, None, lo_open=True, where=where)
 
 
+def _deflection(pd, pfa):
+    """Φ⁻¹(Pd) − Φ⁻¹(Pfa) without checks (the caller checked them)."""
+    return ndtri(jnp.asarray(pd, dtype=float)) - ndtri(jnp.asarray(pfa, dtype=float))
+
+
 def detection_index(pd, pfa):
     """Detection index of the Gaussian ROC ``d = (Φ⁻¹(Pd) − Φ⁻¹(Pfa))²``.
 
@@ -54,7 +60,7 @@ def detection_index(pd, pfa):
         pfa: false-alarm probability, in (0, 1).
     """
     _check_pd_pfa("detection_index", pd, pfa)
-    root = ndtri(jnp.asarray(pd, dtype=float)) - ndtri(jnp.asarray(pfa, dtype=float))
+    root = _deflection(pd, pfa)
     return root * root
 
 
@@ -73,7 +79,7 @@ def pd_from_detection_index(detection_index_, pfa):
     w = "pd_from_detection_index"
     check_range("detection_index", detection_index_, 0.0, None, where=w)
     check_range("pfa", pfa, 0.0, 1.0, lo_open=True, hi_open=True, where=w)
-    return ndtr(jnp.sqrt(jnp.asarray(detection_index_, dtype=float)) + ndtri(jnp.asarray(pfa, dtype=float)))
+    return gaussian_pd(jnp.sqrt(jnp.asarray(detection_index_, dtype=float)), jnp.asarray(pfa, dtype=float))
 
 
 def detection_threshold_known_signal_db(detection_index_, duration_s):

@@ -35,6 +35,7 @@ import jax.numpy as jnp
 from diffsense.errors import DomainError
 from diffsense.numerics.checks import check_range, is_concrete
 from diffsense.sensors.chain import Chain, Evaluation, Output, Param
+from diffsense.sensors.fmcw import FmcwChain
 from diffsense.sensors.infrared import InfraredChain
 from diffsense.sensors.lidar import LidarChain
 from diffsense.sensors.radar import RadarChain
@@ -48,7 +49,7 @@ __all__ = ["Scene", "CHAINS", "sensor_kinds", "chain_for", "complete_parameters"
            "unknown_name_hint"]
 
 CHAINS: Dict[str, Chain] = {chain.kind: chain for chain in (
-    RadarChain(), LidarChain(), SonarChain(), RadiometerChain(), InfraredChain(), UltrasonicChain())}
+    RadarChain(), LidarChain(), SonarChain(), RadiometerChain(), InfraredChain(), UltrasonicChain(), FmcwChain())}
 """Sensor kind -> its chain: every sensor diffsense models."""
 
 

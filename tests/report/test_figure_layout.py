@@ -29,8 +29,8 @@ def _close(fig):
     style.pyplot().close(fig)
 
 
-def test_the_shipped_designs_are_eight_and_three_carry_a_trade():
-    assert len(DESIGNS) == 8
+def test_the_shipped_designs_are_ten_and_three_carry_a_trade():
+    assert len(DESIGNS) == 10
     assert TRADES == ["air_surveillance", "fire_control", "ore_pass"]
 
 

@@ -57,8 +57,8 @@ import math
 
 import jax.numpy as jnp
 
-from diffsense import detection as _det
-from diffsense.numerics.db import DB_PER_NEPER, db10, from_db10, power_sum_db
+from diffsense.detection.single_pulse import single_pulse_pd, single_pulse_required_snr_db
+from diffsense.numerics.db import DB_PER_NEPER, db10, power_sum_db
 from diffsense.physics import antennas as _ant
 from diffsense.physics import waveforms as _wf
 from diffsense.physics.constants import BOLTZMANN_J_K, REFERENCE_TEMPERATURE_K, SPEED_OF_LIGHT_M_S
@@ -67,7 +67,7 @@ from diffsense.sensors.chain import BudgetBuilder, Chain, Evaluation, needs
 from diffsense.sensors.fmcw.leakage import leakage_noise_dbw
 from diffsense.sensors.fmcw.parameters import OPTIONS, PARTS, fmcw_outputs, fmcw_parameters, option
 from diffsense.sensors.fmcw.windows import noise_bandwidth_bins, scalloping_loss_db
-from diffsense.sensors.radar import parts as _radar_parts
+from diffsense.sensors.radar.link_budget import specific_attenuations_db_km
 
 __all__ = ["FmcwChain", "PARTS", "OPTIONS", "noise_bandwidth_factor"]
 
@@ -76,8 +76,6 @@ _C = SPEED_OF_LIGHT_M_S
 _BOLTZMANN_TERM_DB = -DB_PER_NEPER * math.log(BOLTZMANN_J_K * REFERENCE_TEMPERATURE_K)
 #: 10 log10 (4π)³
 _FOUR_PI_CUBED_DB = 30.0 * math.log10(4.0 * math.pi)
-#: domain of diffsense.detection.pd (dB) used here; Pd is settled to float64 outside
-_PD_SNR_DB = (-50.0, 80.0)
 
 
 def noise_bandwidth_factor(scene, p):
@@ -96,24 +94,6 @@ def _antenna(scene, p, lam):
         gain_db = db10(_ant.gain_from_aperture(_ant.circular_aperture_area_m2(d), lam, p["aperture_efficiency"]))
         return gain_db, jnp.rad2deg(_ant.beamwidth_rad(lam, d, p["beamwidth_factor"]))
     return p["gain_db"], p["beamwidth_deg"]
-
-
-def _specific_attenuations_db_km(scene, p):
-    """``{part: one-way specific attenuation (dB/km)}`` of the gas and rain parts present."""
-    alphas = {}
-    if scene.has("gas"):
-        if option(scene, "gas_model") == "itu_p676":
-            alphas["gas"] = _radar_parts.gas_itu_attenuation_db_km(p["freq_hz"], p["pressure_hpa"], p["air_temperature_k"],
-                                                                   p["water_vapour_g_m3"])
-        else:
-            alphas["gas"] = _radar_parts.gas_given_attenuation_db_km(p["gas_attenuation_db_km"])
-    if scene.has("rain"):
-        if option(scene, "rain_model") == "itu_p838":
-            tilt = 0.0 if option(scene, "polarization") == "horizontal" else 90.0
-            alphas["rain"] = _radar_parts.rain_itu_attenuation_db_km(p["freq_hz"], p["rain_rate_mm_h"], jnp.asarray(tilt))
-        else:
-            alphas["rain"] = _radar_parts.rain_given_attenuation_db_km(p["rain_attenuation_db_km"])
-    return alphas
 
 
 def _budget(scene, p, lam, gain_db, alphas, enbw):
@@ -165,25 +145,6 @@ def waveform_outputs(scene, p, lam):
     }
 
 
-def _required_snr_one_sample_db(pd, pfa, swerling):
-    """Required SNR (dB) of one square-law sample: for an exponentially distributed echo power
-    (Swerling 1 and 2 coincide for one sample) the closed form S = ln Pfa / ln Pd − 1
-    (Swerling 1957; DiFranco & Rubin 1968), which the exact series solver
-    :func:`diffsense.detection.required_snr_db` reproduces to 1e-9 dB at a fraction of its
-    program size; the other cases through that solver."""
-    if swerling in (1, 2):
-        return db10(jnp.log(pfa) / jnp.log(pd) - 1.0)
-    return _det.required_snr_db(pd, pfa, jnp.ones_like(pd), swerling)
-
-
-def _pd_one_sample(snr_db, pfa, swerling):
-    """Pd of one square-law sample at ``snr_db``: Pfa^(1/(1+S)) for Swerling 1 and 2, else the
-    exact series :func:`diffsense.detection.pd`."""
-    if swerling in (1, 2):
-        return jnp.exp(jnp.log(pfa) / (1.0 + from_db10(snr_db)))
-    return _det.pd(snr_db, pfa, jnp.ones_like(pfa), swerling)
-
-
 class FmcwChain(Chain):
     """Linear FMCW radar with FFT range processing (book §11.7, §11.12.4)."""
 
@@ -204,7 +165,7 @@ class FmcwChain(Chain):
         ``wanted`` (None: every output) asks for them."""
         lam = _ant.wavelength_m(p["freq_hz"])
         gain_db, beamwidth_deg = _antenna(scene, p, lam)
-        alphas = _specific_attenuations_db_km(scene, p)
+        alphas = specific_attenuations_db_km(scene, p)  # the radar's gas and rain parts, same options
         enbw = noise_bandwidth_factor(scene, p)
         budget = _budget(scene, p, lam, gain_db, alphas, enbw)
         snr = budget.total
@@ -231,9 +192,9 @@ class FmcwChain(Chain):
             values["two_way_attenuation_db"] = sum(atmospheric_two_way_loss_db(p["range_m"], a) for a in alphas.values())
         swerling = option(scene, "swerling")
         if needs(wanted, "required_snr_db", "detection_margin_db"):
-            req = _required_snr_one_sample_db(p["pd"], p["pfa"], swerling)
+            req = single_pulse_required_snr_db(p["pd"], p["pfa"], swerling)
             values["required_snr_db"] = req
             values["detection_margin_db"] = sinr - req
         if needs(wanted, "pd"):
-            values["pd"] = _pd_one_sample(jnp.clip(sinr, *_PD_SNR_DB), p["pfa"], swerling)
+            values["pd"] = single_pulse_pd(sinr, p["pfa"], swerling)
         return Evaluation(budget, {name: values[name] for name in fmcw_outputs(scene) if name in values})

@@ -1,5 +1,5 @@
 """Detection theory: thresholds, exact detection probability for Swerling 0-4, required SNR,
-approximations, losses (fluctuation, integration, beam shape, array scan, straddle, eclipsing,
+approximations, binary (M-of-N) integration, losses (fluctuation, integration, beam shape, array scan, straddle, eclipsing,
 MTI, STC, quantisation), blind speeds, cumulative detection probability,
 CA-CFAR and matched-filter mismatch.
 
@@ -8,6 +8,7 @@ Public contract: :func:`threshold`, :func:`pd`, :func:`required_snr_db` (other t
 broadcast, and every function is jit/vmap/grad-able.
 """
 
+from diffsense.detection.binary import optimum_m_binary, pd_binary, per_trial_pfa_binary, required_snr_binary_db
 from diffsense.detection.cfar import cfar_loss_db, cfar_multiplier, cfar_pd
 from diffsense.detection.core import pd_given_threshold
 from diffsense.detection.cumulative import closing_target_ranges_m, cumulative_pd, cumulative_pd_closing
@@ -51,6 +52,10 @@ from diffsense.detection.threshold import (
 )
 
 __all__ = [
+    "pd_binary",
+    "required_snr_binary_db",
+    "optimum_m_binary",
+    "per_trial_pfa_binary",
     "threshold",
     "pfa_from_threshold",
     "voltage_threshold",

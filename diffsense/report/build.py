@@ -18,6 +18,7 @@ from diffsense.design.model import DesignModel
 from diffsense.design.monte_carlo import attach_probabilities
 from diffsense.design.record import design_table
 from diffsense.design.spec import load_spec
+from diffsense.scene import chain_for
 from diffsense.report import figures
 from diffsense.report.interval_figures import interval_caption, interval_margin
 from diffsense.report.batch import BatchEvaluator, row
@@ -100,7 +101,9 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
     drawer = Drawer(folder, figure_workers)
     try:
         unavailable: List[dict] = []
-        report: dict = {"name": spec.name, "title": spec.title, "sensor": spec.sensor, "description": spec.description.strip(),
+        report: dict = {"name": spec.name, "title": spec.title, "sensor": spec.sensor,
+                        "coverage_charts": any(chain_for(sc).draws_coverage for sc in spec.scenes.values()),
+                        "description": spec.description.strip(),
                         "spec_file": str(spec_path), "objective_text": spec.objective.text}
 
         multipliers = None
@@ -343,7 +346,7 @@ def _figures(drawer: Drawer, model: DesignModel, inputs, batch, report: dict, ja
                 lambda: (figures.roc, (roc_sweep(batch, inputs, case),), dict(required_pd=req_pd,
                                                                              title=f"{spec.title}: ROC{tag}")),
                 f"roc:{case}")
-        if spec.sensor == "radar" and coverage_applies(spec.scenes[case]):
+        if coverage_applies(spec.scenes[case]):
             attempt(f"coverage_{case}", f"Coverage chart (Blake){tag}",
                     f"Range-height coverage{tag} over the 4/3 earth. Assumptions: the main margin requirement "
                     "defines detection; Gaussian elevation beam of the chain's elevation beamwidth, boresight half a "

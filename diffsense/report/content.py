@@ -185,7 +185,7 @@ def _budgets(report: dict) -> List[tuple]:
 
 
 def _detection(report: dict) -> List[tuple]:
-    """Range sweeps, ROC and (radar) coverage of every case; a heading whose figures were all
+    """Range sweeps, ROC and (for chains that draw it) coverage of every case; a heading whose figures were all
     skipped says why in one line."""
     cases = list(report["cases"])
     multi = len(cases) > 1
@@ -193,7 +193,7 @@ def _detection(report: dict) -> List[tuple]:
     for heading, key, titles in (("Detection against range", "range", ("SNR versus range", "Pd versus range")),
                                  ("Receiver operating characteristic", "roc", ("ROC",)),
                                  ("Coverage chart", "coverage", ("Coverage chart (Blake)",))):
-        if key == "coverage" and report["sensor"] != "radar":
+        if key == "coverage" and not report.get("coverage_charts", report["sensor"] == "radar"):
             continue
         body: List[tuple] = []
         for case in cases:

@@ -16,7 +16,7 @@ import numpy as np
 from diffsense.design.model import DesignModel
 from diffsense.physics.propagation.refraction import effective_earth_radius_m
 from diffsense.report.inputs import Input
-from diffsense.sensors.radar.structure import looks_along_surface
+from diffsense.scene import chain_for
 
 #: preference order of the output that carries "the" detection margin of a case
 MARGIN_OUTPUTS = ("faded_snr_margin_db", "snr_margin_db", "signal_excess_db", "detection_margin_db")
@@ -339,19 +339,15 @@ def blake_coverage(batch, model: DesignModel, inputs: List[Input], case: str, *,
 
 
 def coverage_applies(scene) -> bool:
-    """True when a range-height coverage chart over the 4/3 earth describes the scene: a radar
-    that looks along the earth's surface and through the atmosphere
-    (:func:`diffsense.sensors.radar.structure.looks_along_surface`), not one looking down a shaft."""
-    return scene.sensor == "radar" and looks_along_surface(scene)
+    """True when a range-height coverage chart over the 4/3 earth describes the scene, as its chain
+    declares (:meth:`diffsense.sensors.chain.Chain.coverage_chart_reason`: a radar looking along
+    the earth's surface through the atmosphere, not one looking down a shaft)."""
+    return chain_for(scene).coverage_chart_reason(scene) is None
 
 
 def coverage_skip_reason(scene) -> str:
     """Why the coverage chart is not drawn for ``scene`` (see :func:`coverage_applies`)."""
-    if scene.sensor != "radar":
-        return (f"a Blake range-height chart describes a radar beam over the refracting atmosphere; it does not "
-                f"apply to a {scene.sensor}")
-    return ("a Blake range-height chart describes a radar looking along the earth's surface through the "
-            "atmosphere; this scene looks down a shaft (radar option geometry, or the part wall_clutter)")
+    return chain_for(scene).coverage_chart_reason(scene) or ""
 
 
 __all__ = ["coverage_applies", "coverage_skip_reason", "MARGIN_OUTPUTS", "main_margin", "input_index", "budget_rows", "sweep", "range_sweep", "last_crossing",

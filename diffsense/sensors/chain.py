@@ -174,6 +174,8 @@ class Chain:
     description: ClassVar[str] = ""
     parts: ClassVar[Mapping[str, str]] = {}
     options: ClassVar[Mapping[str, Tuple[object, tuple]]] = {}
+    #: the chain's scenes may be drawn on a range-height coverage chart (:meth:`coverage_chart_reason`)
+    draws_coverage: ClassVar[bool] = False
 
     def parameters(self, scene: Scene) -> Dict[str, Param]:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -184,6 +186,14 @@ class Chain:
     def compute(self, scene: Scene, p: Mapping[str, jnp.ndarray],
                 wanted: Optional[FrozenSet[str]] = None) -> Evaluation:  # pragma: no cover - abstract
         raise NotImplementedError
+
+    def coverage_chart_reason(self, scene: Scene) -> Optional[str]:
+        """``None`` when a range-height coverage chart over the refracting 4/3 earth (Blake 1986)
+        describes ``scene`` — a beam looking along the earth's surface through the atmosphere, whose
+        margin the chain gives against range — else why it does not (a sentence for the report).
+        Chains that can be drawn so override it; the report asks the chain, never the sensor name."""
+        return (f"a Blake range-height chart describes a radar beam over the refracting atmosphere; it does not "
+                f"apply to a {self.kind}")
 
     # shared helpers
     def option(self, scene: Scene, name: str):

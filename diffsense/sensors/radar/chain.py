@@ -80,6 +80,7 @@ from diffsense.sensors.radar.interference import Interference, check_sea_clutter
 from diffsense.sensors.radar.link_budget import Link, antenna, check_inside_horizon, link_outputs
 from diffsense.sensors.radar import parts
 from diffsense.sensors.radar.parameters import radar_outputs, radar_parameters
+from diffsense.sensors.radar.loss_models import loss_model_refusals
 from diffsense.sensors.radar.structure import (
     ATTENUATION_PARTS,
     CLUTTER_PARTS,
@@ -107,6 +108,7 @@ class RadarChain(Chain):
     description = "pulsed monostatic radar (Brooker ch. 8-9): SNR budget, Pd, clutter, jamming, detection range"
     parts = PARTS
     options = OPTIONS
+    draws_coverage = True
 
     def validate_scene(self, scene):
         super().validate_scene(scene)
@@ -118,10 +120,18 @@ class RadarChain(Chain):
         if scene.has("closing_target") and option(scene, "detectability") == "given":
             raise DomainError("radar scene: the part closing_target needs a detection model for Pd at each look; "
                               "detectability='given' writes only the required SNR (use 'exact')")
+        for reason in loss_model_refusals(scene, option):
+            raise DomainError(f"radar scene: {reason}")
         surface = [part for part in SURFACE_PARTS if scene.has(part)]
         if surface and not looks_along_surface(scene):
             raise DomainError(f"radar scene: the parts {surface} need a radar looking along the sea surface; "
                               "option geometry='shaft' says it looks down a shaft")
+
+    def coverage_chart_reason(self, scene):
+        if looks_along_surface(scene):
+            return None
+        return ("a Blake range-height chart describes a radar looking along the earth's surface through the "
+                "atmosphere; this scene looks down a shaft (radar option geometry, or the part wall_clutter)")
 
     def parameters(self, scene):
         return radar_parameters(scene)

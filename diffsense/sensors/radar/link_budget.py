@@ -30,7 +30,6 @@ import jax
 import jax.numpy as jnp
 
 from diffsense import detection as _det
-from diffsense.detection.scan_losses import beam_shape_loss_db
 from diffsense.errors import DomainError
 from diffsense.numerics.checks import check_range, is_concrete
 from diffsense.numerics.db import DB_PER_NEPER, db10, from_db10
@@ -43,6 +42,7 @@ from diffsense.physics.waveforms import duty_cycle, range_resolution_pulse_m, un
 from diffsense.sensors.chain import Budget, BudgetBuilder, needs
 from diffsense.sensors.radar import equation as eq
 from diffsense.sensors.radar import parts
+from diffsense.sensors.radar.loss_models import modelled_losses_db
 from diffsense.sensors.radar.structure import option
 
 __all__ = ["Antenna", "antenna", "matched_filter_loss_db", "received_width_s", "specific_attenuations_db_km",
@@ -89,16 +89,6 @@ def matched_filter_loss_db(scene, p):
         lo, hi = (0.01, 2.86) if mf == "rectangular" else (0.01, 50.0)
         check_range("bandwidth_hz * pulse_width_s", bt, lo, hi, where=f"radar chain, matched_filter={mf!r}")
     return _det.matched_filter_loss_db(bt, mf)
-
-
-def scan_loss_db(scene, p):
-    """The beam-shape (scanning) loss, dB: the spec's ``scan_loss_db`` (option ``scan_loss_model =
-    "given"``) or the Gaussian beam's SNR-averaged loss over ``beam_spacing`` beamwidths in one or
-    two scanned axes (:func:`diffsense.detection.scan_losses.beam_shape_loss_db`)."""
-    model = option(scene, "scan_loss_model")
-    if model == "given":
-        return p["scan_loss_db"]
-    return beam_shape_loss_db(p["beam_spacing"], dims=1 if model == "beam_shape_1d" else 2)
 
 
 def received_width_s(scene, p):
@@ -189,10 +179,11 @@ class Link:
             ("wavelength_db", 2.0 * db10(wavelength_m) - eq.FOUR_PI_CUBED_DB),
             ("rcs_dbsm", db10(p["rcs_m2"])),
         ]
-        self.loss_terms = [("scan_loss_db", -scan_loss_db(scene, p))]
-        if mf_loss is not None:
-            self.loss_terms.append(("matched_filter_loss_db", -mf_loss))
-        self.loss_terms += [("cfar_loss_db", -p["cfar_loss_db"]), ("misc_loss_db", -p["misc_loss_db"])]
+        # the declared losses (:mod:`diffsense.sensors.radar.loss_models`), the filter's mismatch
+        # after the first (the book's order: scan, matched filter, CFAR, miscellaneous)
+        modelled = [(name, -loss) for name, loss in modelled_losses_db(scene, p, option)]
+        mismatch = [] if mf_loss is None else [("matched_filter_loss_db", -mf_loss)]
+        self.loss_terms = modelled[:1] + mismatch + modelled[1:]
         self.noise_terms = _noise_terms(scene, p)
         self.signal_const = sum(v for _, v in self.const_terms + self.loss_terms)
         #: receiver noise N = k T0 β F L_rx = k Ts β L_rx (dBW)

@@ -9,6 +9,7 @@ import math
 from diffsense.physics import antennas as _ant
 from diffsense.physics import tracking as _trk
 from diffsense.sensors.chain import Output, Param, collect
+from diffsense.sensors.radar.loss_models import loss_model_parameters
 from diffsense.sensors.radar.structure import ATTENUATION_PARTS, CLUTTER_PARTS, MAX_LOOKS, clutter_parts_present, option
 
 __all__ = ["BOOK_BEAMWIDTH_FACTOR", "MAX_LOOKS", "radar_parameters", "radar_outputs"]
@@ -24,14 +25,6 @@ def _noise_parameter(scene):
     return Param("noise_figure_db", "dB", "receiver noise figure NF referred to the receiver input", None, 0.0, 60.0)
 
 
-def _scan_loss_parameter(scene):
-    if option(scene, "scan_loss_model") == "given":
-        return Param("scan_loss_db", "dB", "beam-shape / scanning loss (book 9.9.1: 1.6 dB for 1-D scan)", 0.0, 0.0, 60.0)
-    return Param("beam_spacing", "1", "spacing of the beam positions (or the scan swept during the integrated pulses) "
-                 "in one-way 3 dB beamwidths; the Gaussian beam's SNR-averaged beam-shape loss follows "
-                 "(1: contiguous beams, 1.67 dB per scanned axis)", 1.0, 0.0, 10.0)
-
-
 def _core_parameters(scene):
     return [
         Param("range_m", "m", "target range R at which SNR, Pd and margins are evaluated", None, 1.0, 1e7),
@@ -44,9 +37,7 @@ def _core_parameters(scene):
         _noise_parameter(scene),
         Param("transmit_loss_db", "dB", "transmit line / duplexer loss L_tx (book 9.9.1: 2 dB)", 0.0, 0.0, 60.0),
         Param("receive_loss_db", "dB", "receive line loss L_rx, added to the noise (book 9.9.1.3: 2 dB)", 0.0, 0.0, 60.0),
-        _scan_loss_parameter(scene),
-        Param("cfar_loss_db", "dB", "CFAR loss (book 9.9.1: 0.7 dB)", 0.0, 0.0, 60.0),
-        Param("misc_loss_db", "dB", "miscellaneous losses (book 9.9.1: 1.3 dB)", 0.0, 0.0, 60.0),
+        *loss_model_parameters(scene),
         Param("prf_hz", "Hz", "pulse repetition frequency f_p", None, 0.0, 1e8, lo_open=True),
         Param("n_pulses", "1", "pulses integrated per detection N (real-valued relaxation)", 1.0, 1.0, 1e4, integer=True),
         Param("tangential_sensitivity_dbm", "dBm", "detector tangential sensitivity TSS (book 8.16.12: -75 dBm)", -75.0, -200.0, 50.0),

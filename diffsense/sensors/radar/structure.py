@@ -22,6 +22,7 @@ Options added to the book's set:
 from __future__ import annotations
 
 from diffsense.detection.matched_filter import FILTERS
+from diffsense.sensors.radar.loss_models import loss_model_options
 
 __all__ = ["PARTS", "OPTIONS", "ATTENUATION_PARTS", "CLUTTER_PARTS", "SURFACE_PARTS", "option",
            "clutter_parts_present", "looks_along_surface"]
@@ -69,7 +70,8 @@ OPTIONS = {
     "sea_clutter_model": ("nrl", ("nrl", "constant_gamma")),
     "noise_input": ("figure", ("figure", "temperature")),
     "geometry": ("auto", ("auto", "earth_surface", "shaft")),
-    "scan_loss_model": ("given", ("given", "beam_shape_1d", "beam_shape_2d")),
+    # the options of the modelled budget losses (scan_loss_model, cfar_model, misc_loss_model)
+    **loss_model_options(),
 }
 
 

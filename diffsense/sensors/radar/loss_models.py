@@ -1,0 +1,133 @@
+"""The radar budget's modelled losses, declared in one place.
+
+Each :class:`LossModel` is one signed term of the link budget (``-L`` dB, :mod:`diffsense.sensors.
+radar.link_budget`) whose value a spec chooses how to obtain: the static option that picks the
+model, the allowed models, and for each model the parameters it reads and the function that
+computes the loss from them. The option table (:data:`diffsense.sensors.radar.structure.OPTIONS`,
+what ``diffsense describe radar`` prints), the parameter table and the budget all read these
+declarations, so a new way to compute a loss is a new :class:`Choice` here (plus its test), and a
+new modelled loss a new :class:`LossModel` in :data:`LOSS_MODELS`.
+
+Declared losses (budget order):
+
+* ``scan_loss_db`` (option ``scan_loss_model``): ``"given"`` — the spec's number (book 9.9.1:
+  1.6 dB for a 1-D scan); ``"beam_shape_1d"`` / ``"beam_shape_2d"`` — the Gaussian beam's
+  SNR-averaged beam-shape loss at a beam spacing of ``beam_spacing`` beamwidths in one or two
+  scanned axes (:func:`diffsense.detection.beam_shape_loss_db`; 1.672 / 3.343 dB contiguous).
+* ``cfar_loss_db`` (option ``cfar_model``): ``"given"`` — the spec's number (book 9.9.1: 0.7 dB).
+* ``misc_loss_db`` (option ``misc_loss_model``): ``"given"`` only (book 9.9.1: 1.3 dB).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Mapping, Optional, Tuple
+
+from diffsense import detection as _det
+from diffsense.sensors.chain import Param
+
+__all__ = ["Choice", "LossModel", "LOSS_MODELS", "loss_model_options", "loss_model_parameters", "modelled_losses_db",
+           "loss_model_refusals", "loss_models_markdown"]
+
+
+@dataclass(frozen=True)
+class Choice:
+    """One way to obtain a loss: the parameters it reads, ``loss_db(scene, p, option) -> dB``
+    (``option(scene, name)``: the scene's value of a radar option) and what it computes, with its
+    source (``doc``, the generated documentation's text)."""
+
+    parameters: Tuple[Param, ...]
+    loss_db: Callable
+    doc: str
+    #: ``refusal(scene, option) -> str | None``: why the scene cannot use this choice (checked when
+    #: the scene is validated), or None
+    refusal: Optional[Callable] = None
+
+
+@dataclass(frozen=True)
+class LossModel:
+    """A budget term (``term``, entered as ``-loss``) and the option ``option`` choosing among
+    ``choices`` (the first is the default)."""
+
+    term: str
+    option: str
+    choices: Mapping[str, Choice]
+
+    @property
+    def default(self) -> str:
+        return next(iter(self.choices))
+
+
+def _given(term: str, meaning: str) -> Choice:
+    return Choice((Param(term, "dB", meaning, 0.0, 0.0, 60.0),), lambda scene, p, option: p[term],
+                  f"the spec's number `{term}`")
+
+
+def _beam_shape(dims: int) -> Choice:
+    spacing = Param("beam_spacing", "1", "spacing of the beam positions (or the scan swept during the integrated "
+                    "pulses) in one-way 3 dB beamwidths; the Gaussian beam's SNR-averaged beam-shape loss follows "
+                    "(1: contiguous beams, 1.67 dB per scanned axis)", 1.0, 0.0, 10.0)
+    return Choice((spacing,), lambda scene, p, option: _det.beam_shape_loss_db(p["beam_spacing"], dims=dims),
+                  f"SNR-averaged loss of a Gaussian beam sampled every `beam_spacing` beamwidths along "
+                  f"{('one scanned axis', 'two scanned axes')[dims - 1]} (Blake 1986; "
+                  "`diffsense.detection.beam_shape_loss_db`)")
+
+
+LOSS_MODELS: Tuple[LossModel, ...] = (
+    LossModel("scan_loss_db", "scan_loss_model", {
+        "given": _given("scan_loss_db", "beam-shape / scanning loss (book 9.9.1: 1.6 dB for 1-D scan)"),
+        "beam_shape_1d": _beam_shape(1),
+        "beam_shape_2d": _beam_shape(2),
+    }),
+    LossModel("cfar_loss_db", "cfar_model", {
+        "given": _given("cfar_loss_db", "CFAR loss (book 9.9.1: 0.7 dB)"),
+    }),
+    LossModel("misc_loss_db", "misc_loss_model", {
+        "given": _given("misc_loss_db", "miscellaneous losses (book 9.9.1: 1.3 dB)"),
+    }),
+)
+
+
+def loss_model_options() -> dict:
+    """``{option: (default, allowed values)}`` of the declared losses (the option table's rows)."""
+    return {m.option: (m.default, tuple(m.choices)) for m in LOSS_MODELS}
+
+
+def _chosen(scene, model: LossModel) -> Choice:
+    return model.choices[scene.option(model.option, model.default)]
+
+
+def loss_model_parameters(scene) -> list:
+    """The parameters the scene's chosen loss models read (budget order, no repeats)."""
+    out, seen = [], set()
+    for model in LOSS_MODELS:
+        for param in _chosen(scene, model).parameters:
+            if param.name not in seen:
+                seen.add(param.name)
+                out.append(param)
+    return out
+
+
+def loss_model_refusals(scene, option) -> list:
+    """Why the scene's chosen loss models cannot be used with its other options (empty: they can)."""
+    reasons = [_chosen(scene, m).refusal for m in LOSS_MODELS]
+    return [r for r in (fn(scene, option) for fn in reasons if fn is not None) if r]
+
+
+def modelled_losses_db(scene, p, option) -> list:
+    """``[(term, loss dB)]`` of the declared losses in budget order, each from the scene's model."""
+    return [(m.term, _chosen(scene, m).loss_db(scene, p, option)) for m in LOSS_MODELS]
+
+
+def loss_models_markdown() -> str:
+    """The declarations as a Markdown table (``docs/models/radar_losses.md`` is this text; a test keeps
+    the two equal)."""
+    lines = ["# Radar budget losses and how a spec computes them", "",
+             "Generated from `diffsense.sensors.radar.loss_models.LOSS_MODELS`; each term enters the budget "
+             "as −L dB. Pick a model with the option in `[options]` (the first is the default).", "",
+             "| budget term | option | model | parameters | what it computes |", "|---|---|---|---|---|"]
+    for model in LOSS_MODELS:
+        for name, choice in model.choices.items():
+            params = ", ".join(f"`{q.name}` ({q.unit})" for q in choice.parameters)
+            lines.append(f"| `{model.term}` | `{model.option}` | `{name}` | {params} | {choice.doc} |")
+    return "\n".join(lines) + "\n"

@@ -14,7 +14,11 @@ Declared losses (budget order):
   1.6 dB for a 1-D scan); ``"beam_shape_1d"`` / ``"beam_shape_2d"`` — the Gaussian beam's
   SNR-averaged beam-shape loss at a beam spacing of ``beam_spacing`` beamwidths in one or two
   scanned axes (:func:`diffsense.detection.beam_shape_loss_db`; 1.672 / 3.343 dB contiguous).
-* ``cfar_loss_db`` (option ``cfar_model``): ``"given"`` — the spec's number (book 9.9.1: 0.7 dB).
+* ``cfar_loss_db`` (option ``cfar_model``): ``"given"`` — the spec's number (book 9.9.1: 0.7 dB);
+  ``"cell_averaging"`` — the exact CA-CFAR loss for the scene's Swerling case, Pd, Pfa and
+  integrated pulses with ``cfar_reference_cells`` reference cells (Finn & Johnson 1968;
+  :func:`diffsense.detection.cfar_loss_db`: the SNR the CFAR detector needs minus the known-noise
+  requirement, both for N noncoherently integrated pulses; N = 1 with coherent integration).
 * ``misc_loss_db`` (option ``misc_loss_model``): ``"given"`` only (book 9.9.1: 1.3 dB).
 """
 
@@ -73,6 +77,23 @@ def _beam_shape(dims: int) -> Choice:
                   "`diffsense.detection.beam_shape_loss_db`)")
 
 
+def _needs_detection_model(scene, option):
+    if option(scene, "detectability") == "given":
+        return ("cfar_model='cell_averaging' computes the CFAR loss for the scene's pd and pfa; "
+                "detectability='given' has neither (use detectability='exact' or cfar_model='given')")
+    return None
+
+
+def _cell_averaging_loss_db(scene, p, option):
+    coherent = option(scene, "integration") == "coherent"
+    n = 1.0 if coherent else p["n_pulses"]
+    return _det.cfar_loss_db(p["pd"], p["pfa"], p["cfar_reference_cells"], n, option(scene, "swerling"))
+
+
+_CELLS = Param("cfar_reference_cells", "1", "reference cells M averaged by the CA-CFAR noise estimate (each "
+               "holding the N integrated pulses); the loss is exact for the scene's Swerling case, pd, pfa and "
+               "n_pulses", 16.0, 1.0, 1e4, integer=True)
+
 LOSS_MODELS: Tuple[LossModel, ...] = (
     LossModel("scan_loss_db", "scan_loss_model", {
         "given": _given("scan_loss_db", "beam-shape / scanning loss (book 9.9.1: 1.6 dB for 1-D scan)"),
@@ -81,6 +102,10 @@ LOSS_MODELS: Tuple[LossModel, ...] = (
     }),
     LossModel("cfar_loss_db", "cfar_model", {
         "given": _given("cfar_loss_db", "CFAR loss (book 9.9.1: 0.7 dB)"),
+        "cell_averaging": Choice((_CELLS,), _cell_averaging_loss_db,
+                                 "exact CA-CFAR loss for the scene's Swerling case, `pd`, `pfa` and `n_pulses` "
+                                 "with `cfar_reference_cells` cells (Finn & Johnson 1968; "
+                                 "`diffsense.detection.cfar_loss_db`)", _needs_detection_model),
     }),
     LossModel("misc_loss_db", "misc_loss_model", {
         "given": _given("misc_loss_db", "miscellaneous losses (book 9.9.1: 1.3 dB)"),

@@ -130,6 +130,7 @@ def optimize(
     """Optimise a spec: the best design meeting every requirement (exit 3 when none can)."""
     from diffsense.design.activity import design_findings
     from diffsense.design.exact_check import exact_recheck
+    from diffsense.design.goals import buy_goals, plan_lines, plan_record
     from diffsense.design.optimizer import optimize_design
     from diffsense.design.record import design_record
 
@@ -141,6 +142,11 @@ def optimize(
     with reporter.step(f"compiling and solving {lanes} lanes "
                        f"({len(model.combinations)} catalog combinations x {starts} starts)"):
         result = optimize_design(model, n_starts=starts, seed=seed)
+    plan = None
+    if model.spec.objective.reach_goals and result.feasible:
+        with reporter.step("buying the requirements' goals, cheapest first"):
+            plan = buy_goals(model, result, lambda m: optimize_design(m, n_starts=starts, seed=seed))
+        result = plan.optimum
     with reporter.step("re-evaluating the optimum"):
         record = design_record(model, result.x, result.combo_index, every_output=json_out is not None)
     check_probabilities(model, record, result.x, result.combo_index, reporter)
@@ -150,6 +156,8 @@ def optimize(
                             "reached_best": result.starts_at_best}
     record["candidates"] = result.candidates
     record["canonical"] = result.canonical
+    if plan is not None:
+        record["goals"] = plan_record(plan)
     for row, lam in zip(record["requirements"], result.multipliers):
         row["multiplier"] = float(lam)
     record["solve_time_s"] = time.perf_counter() - t0
@@ -160,7 +168,15 @@ def optimize(
         c = result.canonical
         reporter.info(f"{c['rule']}: {c['flat_directions']} flat direction(s); smallest such slack "
                       f"{c['smallest_slack_before']:.4g} -> {c['smallest_slack_after']:.4g} (scaled)")
-    findings = design_findings(model, result.x, result.combo_index, record["requirements"], result.multipliers)
+    if plan is not None:
+        for line in plan_lines(record["goals"], model.spec.objective.text):
+            reporter.info(line)
+    # what sets the design: the limits it was solved for (the goals bought are limits then)
+    solved, rows = model, record["requirements"]
+    if plan is not None:
+        solved = plan.model
+        rows = design_record(solved, result.x, result.combo_index)["requirements"]
+    findings = design_findings(solved, result.x, result.combo_index, rows, result.multipliers)
     record["findings"] = findings
     print_findings(findings, reporter)
     exact_ok = True

@@ -16,7 +16,7 @@ import numpy as np
 from diffsense.design.activity import design_findings
 from diffsense.design.model import DesignModel
 from diffsense.design.monte_carlo import attach_probabilities
-from diffsense.design.record import design_table
+from diffsense.design.record import design_record, design_table
 from diffsense.design.spec import load_spec
 from diffsense.scene import chain_for
 from diffsense.report import figures
@@ -107,13 +107,18 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
                         "spec_file": str(spec_path), "objective_text": spec.objective.text}
 
         multipliers = None
+        # the model whose limits the optimum was solved for (with goals bought: their goals)
+        solved = model
         optimize = optimize or optimum is not None
         if optimize:
             t0 = time.perf_counter()
             if optimum is None:
-                from diffsense.design.optimizer import optimize_design
+                from diffsense.design.goals import optimize_with_goals, plan_record
 
-                result = optimize_design(model, n_starts=n_starts, seed=seed)
+                result, plan = optimize_with_goals(model, n_starts=n_starts, seed=seed)
+                if plan is not None:
+                    report["goals"] = plan_record(plan)
+                    solved = plan.model
             else:
                 result = optimum
             x, combo_index = np.asarray(result.x, dtype=float), int(result.combo_index)
@@ -183,7 +188,7 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
             try:
                 if jac is None or not jac["autodiff"]:
                     raise RuntimeError("needs the automatic derivatives of the Jacobian section")
-                post = post_optimal_section(model, inputs, batch, x, combo_index, jac["derivative"], req_values,
+                post = post_optimal_section(solved, inputs, batch, x, combo_index, jac["derivative"], req_values,
                                             multipliers, objective_scale(model))
                 report["post_optimal"] = _post_json(post, model, report)
                 if post.get("reason"):
@@ -198,7 +203,8 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
 
         # --- what sets the design --------------------------------------------------------------
         try:
-            report["findings"] = design_findings(model, x, combo_index, report["requirements"], multipliers)
+            rows = report["requirements"] if solved is model else design_record(solved, x, combo_index)["requirements"]
+            report["findings"] = design_findings(solved, x, combo_index, rows, multipliers)
         except Exception as exc:  # noqa: BLE001
             unavailable.append({"section": "what sets the design", "reason": _reason(exc)})
 

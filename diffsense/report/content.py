@@ -6,6 +6,7 @@ from typing import List
 
 import numpy as np
 
+from diffsense.design.goals import plan_lines
 from diffsense.report.glance import glance_blocks
 from diffsense.report.jacobian import FD_STEP
 from diffsense.report.render import fmt, unit_text
@@ -77,6 +78,8 @@ def _summary(report: dict) -> List[tuple]:
             items.append(f"Starts reaching the best design: {ms['reached_best']} of {ms['starts']}")
         if report.get("unmet"):
             items.append("Requirements not met: " + "; ".join(report["unmet"]))
+        if report.get("goals"):
+            items.extend(f"Goals, cheapest first: {line}" for line in plan_lines(report["goals"], report["objective"]["text"]))
         c = report.get("canonical")
         if c:
             items.append(f"Choice among equally good designs: {c['rule']}. The optimal set has {c['flat_directions']} "

@@ -4,8 +4,12 @@
     minimize = "antenna_diameter_m"                    # a parameter, an output or "cost"
     # or a weighted sum: minimize = { antenna_diameter_m = 1.0, cost = 0.1 }
     # or maximize = "<name>"; with several cases "<case>.<name>" (default: the first case)
+    reach_goals = true      # optional: then buy the requirements' goals, cheapest first
 
-"cost" is the summed cost of the chosen catalog options.
+"cost" is the summed cost of the chosen catalog options. With ``reach_goals = true`` the optimiser
+first meets every threshold, then raises requirements to their goals (``goal = "..."``) one at a
+time, each time the one that costs the least objective, while the design stays feasible
+(:mod:`diffsense.design.goals`); at most :data:`MAX_GOALS` goals (the re-solves grow as their square).
 """
 
 from __future__ import annotations
@@ -18,7 +22,9 @@ from diffsense.design.spec.types import Objective
 from diffsense.errors import SpecError
 from diffsense.scene import describe_command
 
-OBJECTIVE_KEYS = {"minimize", "maximize", "doc"}
+OBJECTIVE_KEYS = {"minimize", "maximize", "doc", "reach_goals"}
+#: goals ``reach_goals`` may buy: the optimiser re-solves at most MAX_GOALS (MAX_GOALS + 1) / 2 times
+MAX_GOALS = 6
 
 
 def read_objective(file, raw: Mapping, cases: Cases) -> Objective:
@@ -51,8 +57,24 @@ def read_objective(file, raw: Mapping, cases: Cases) -> Objective:
         if base not in known:
             raise SpecError(file, f"objective.{sense}", f"unknown parameter or output {echo(tname, 60)}"
                             f"{closest(base, known)}; run '{describe_command(cases.scenes[case])}' for them all")
+    reach = oraw.get("reach_goals", False)
+    if not isinstance(reach, bool):
+        raise SpecError(file, "objective.reach_goals", f"must be true or false; got {echo(reach)}")
     return Objective(tuple(terms), 1.0 if sense == "minimize" else -1.0,
-                     f"{sense} " + " + ".join(f"{w:g}·{n}" if w != 1 else n for n, w in terms))
+                     f"{sense} " + " + ".join(f"{w:g}·{n}" if w != 1 else n for n, w in terms), reach)
+
+
+def check_goals(file, objective: Objective, requirements) -> None:
+    """``reach_goals = true`` needs between 1 and :data:`MAX_GOALS` requirements with a goal."""
+    if not objective.reach_goals:
+        return
+    goals = [r.name for r in requirements if r.goal is not None]
+    if not goals:
+        raise SpecError(file, "objective.reach_goals", "no requirement has a goal: add goal = \"...\" beside a "
+                        "requirement's at_least / at_most, or remove reach_goals")
+    if len(goals) > MAX_GOALS:
+        raise SpecError(file, "objective.reach_goals", f"{len(goals)} requirements have goals; at most {MAX_GOALS} "
+                        f"can be bought in order of cost (the re-solves grow as the square of their number)")
 
 
 def _terms(file, sense: str, obj) -> List[Tuple[str, float]]:

@@ -23,7 +23,7 @@ from diffsense.design.spec.cases import read_cases, read_sensor
 from diffsense.design.spec.choices import design_parameters, read_choices
 from diffsense.design.spec.common import clean_message, plain_text, reject_unknown
 from diffsense.design.spec.fixed import read_fixed
-from diffsense.design.spec.objective import read_objective
+from diffsense.design.spec.objective import check_goals, read_objective
 from diffsense.design.spec.requirements import read_requirements
 from diffsense.design.spec.limits import check_counts, check_work
 from diffsense.design.spec.trade import check_trade, read_trade
@@ -95,6 +95,7 @@ def parse_spec(raw: Mapping, path="<spec>") -> Spec:
     requirements = read_requirements(file, raw, cases, set(chosen))
     check_probabilities(file, requirements, uncertain, cases)
     objective = read_objective(file, raw, cases)
+    check_goals(file, objective, requirements)
     name = plain_text(file, "name", raw.get("name", Path(str(path)).stem))
     title = plain_text(file, "title", raw.get("title", name))
     description = plain_text(file, "description", raw.get("description", ""), multiline=True)

@@ -100,6 +100,8 @@ class Objective:
     terms: Tuple[Tuple[str, float], ...]
     sign: float
     text: str
+    #: after meeting the thresholds, buy the requirements' goals in order of cost (:mod:`diffsense.design.goals`)
+    reach_goals: bool = False
 
 
 @dataclass

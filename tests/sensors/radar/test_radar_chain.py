@@ -95,6 +95,12 @@ def test_chain_radar_designer_metrics_closed_forms():
     assert float(ev["power_aperture_w_m2"]) == pytest.approx(float(pa), rel=1e-13)
     assert float(ev["minimum_range_m"]) == pytest.approx(float(mp.mpf(SPEED_OF_LIGHT_M_S) * f["pulse_width_s"] / 2), rel=1e-15)
     assert float(ev["first_blind_speed_mps"]) == pytest.approx(float(lam * f["prf_hz"] / 2), rel=1e-14)
+    # range-rate accuracy: the Cramér–Rao bound of the N-pulse dwell at the budget's single-pulse SNR
+    # (checked against a Monte Carlo of the ML estimator in tests/physics/test_measurement_accuracy.py)
+    t_rms = mp.sqrt(((f["n_pulses"] ** 2 - 1) / f["prf_hz"] ** 2 + f["pulse_width_s"] ** 2) / 12)
+    snr_n = f["n_pulses"] * mp.mpf(10) ** (mp.mpf(float(ev["snr_db"])) / 10)
+    sigma_v = lam / (4 * mp.pi * t_rms * mp.sqrt(2 * snr_n))
+    assert float(ev["range_rate_accuracy_mps"]) == pytest.approx(float(sigma_v), rel=1e-13)
 
 
 def test_chain_free_space_detection_range_closed_form():

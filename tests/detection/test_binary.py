@@ -271,7 +271,7 @@ QUICK_SHARED = [(1, 13.0, 1e-6, 4, 2, 1)]
 SLOW_SHARED = [(sw, dx, pfa, n, m, n_p) for sw in (1, 3) for i, (dx, pfa, n, m, n_p) in enumerate((
     (-8.0, 1e-12, 10, 3, 1), (0.0, 1e-12, 100, 50, 1), (6.0, 1e-2, 100, 100, 1), (15.0, 1e-8, 100, 1, 10),
     (0.0, 1e-2, 30, 1, 100), (25.0, 1e-12, 24, 12, 10), (1.0, 1e-12, 100, 1, 100), (-2.0, 1e-2, 100, 50, 100)))
-               if i % 2 == sw // 2]  # each condition once, alternating between the two cases
+               if i % 4 == (0 if sw == 1 else 3)]  # a quarter of the conditions for each case, not the same
 
 
 @pytest.mark.parametrize("swerling,dx,pfa,n,m,n_p", _params(QUICK_SHARED, SLOW_SHARED))
@@ -306,7 +306,7 @@ QUICK_REQ_SHARED = [(1, 0.9, 1e-6, 4, 2, 1)]
 SLOW_REQ_SHARED = [(sw, pd, pfa, n, m, n_p) for sw in (1, 3) for i, (pd, pfa, n, m, n_p) in enumerate((
     (0.1, 1e-12, 10, 3, 1), (0.5, 1e-2, 100, 50, 1), (0.9, 1e-12, 100, 100, 1), (0.999, 1e-8, 100, 1, 10),
     (0.999, 1e-2, 24, 12, 1), (0.9, 1e-6, 30, 8, 100), (0.999, 1e-12, 100, 1, 100), (0.1, 1e-2, 100, 50, 100)))
-                   if i % 2 == sw // 2]
+                   if i % 4 == (0 if sw == 1 else 3)]
 
 
 @pytest.mark.parametrize("swerling,pd,pfa,n,m,n_p", _params(QUICK_REQ_SHARED, SLOW_REQ_SHARED))

@@ -340,14 +340,15 @@ class ExplorerSession:
     def optimize(self, n_starts: int = 1, seed: int = 0):
         """Optimise from the current point (it is the first start of every catalog combination;
         ``n_starts`` − 1 Latin-hypercube starts follow) with the current fixed values, then move
-        the point to the optimum. Returns the :class:`~diffsense.design.optimizer.DesignOptimum`."""
-        from diffsense.design.optimizer import optimize_design
+        the point to the optimum (with ``reach_goals``, the optimum after buying the goals,
+        :mod:`diffsense.design.goals`). Returns the :class:`~diffsense.design.optimizer.DesignOptimum`."""
+        from diffsense.design.goals import optimize_with_goals
         from diffsense.design.spec.limits import require_variables
 
         spec = self.spec_here()
         require_variables(spec)  # a SpecError the page shows: nothing to optimise
         model = DesignModel(spec)
-        result = optimize_design(model, n_starts=n_starts, seed=seed)
+        result, _ = optimize_with_goals(model, n_starts=n_starts, seed=seed)
         chosen = model.combinations[result.combo_index].options
         for catalog, option in chosen.items():
             self.options[catalog] = self.catalogs[catalog].index(option)

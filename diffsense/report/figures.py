@@ -132,8 +132,9 @@ def snr_vs_range(path, data: dict, *, title: str) -> Path:
     if cond is not None:
         ax.plot(r, cond["snr_db"], color="#1565c0", linewidth=1.8,
                 label=f"SNR {cond['text']} (the requirement's condition)")
-        ax.plot(r, out["snr_db"], color="#1565c0", linestyle="--", linewidth=1.1, alpha=0.8,
-                label="SNR of the mean target (the chain's snr_db)")
+        if not _same(cond["snr_db"], out["snr_db"], 1e-6):  # a curve lying under another is not drawn
+            ax.plot(r, out["snr_db"], color="#1565c0", linestyle="--", linewidth=1.1, alpha=0.8,
+                    label="SNR of the mean target (the chain's snr_db)")
         shown.append(np.asarray(cond["snr_db"]))
         marked = cond["snr_db"]
     else:
@@ -164,6 +165,13 @@ def snr_vs_range(path, data: dict, *, title: str) -> Path:
     return _finish(fig, ax, path, title, grid=dict(alpha=0.35))
 
 
+def _same(a, b, tol: float) -> bool:
+    """The two curves agree to ``tol`` wherever both are finite (one would hide the other)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    ok = np.isfinite(a) & np.isfinite(b)
+    return bool(np.all(np.isfinite(a) == np.isfinite(b)) and np.all(np.abs(a[ok] - b[ok]) <= tol))
+
+
 def pd_vs_range(path, data: dict, *, required_pd: Optional[float], pfa: Optional[float], title: str) -> Path:
     """Pd against range with the required Pd, the design range and the range where the main
     margin requirement is just met (``met_to_m``, the range the SNR figure marks).
@@ -180,8 +188,9 @@ def pd_vs_range(path, data: dict, *, required_pd: Optional[float], pfa: Optional
     if cond is not None and cond.get("pd") is not None:
         ax.plot(r, cond["pd"], color="#1565c0", linewidth=1.8,
                 label=f"Pd {cond['text']} (the requirement's condition){at}")
-        ax.plot(r, pd, color="#1565c0", linestyle="--", linewidth=1.1, alpha=0.8,
-                label="Pd of the mean target (the chain's pd)")
+        if not _same(cond["pd"], pd, 1e-6):  # a curve lying under another is not drawn
+            ax.plot(r, pd, color="#1565c0", linestyle="--", linewidth=1.1, alpha=0.8,
+                    label="Pd of the mean target (the chain's pd)")
         marked = cond["pd"]
     else:
         ax.plot(r, pd, color="#1565c0", linewidth=1.8, label=f"Pd at range (chain){at}")

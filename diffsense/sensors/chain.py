@@ -193,7 +193,7 @@ class Chain:
         margin the chain gives against range — else why it does not (a sentence for the report).
         Chains that can be drawn so override it; the report asks the chain, never the sensor name."""
         return (f"a Blake range-height chart describes a radar beam over the refracting atmosphere; it does not "
-                f"apply to a {self.kind}")
+                f"apply to the {self.kind} chain")
 
     # shared helpers
     def option(self, scene: Scene, name: str):

@@ -118,7 +118,7 @@ def test_report_writes_markdown_html_json_and_every_figure(reports, which):
         assert f"({f})" in md and f'src="{f}"' in html
     # the Blake chart is a radar figure: skipped for the sonar, with the reason in the report
     assert [s["figure"] for s in rep["skipped_figures"]] == ["Coverage chart (Blake)"]
-    assert "does not apply to a sonar" in md
+    assert "does not apply to the sonar chain" in md
 
 
 # --- numbers against `diffsense evaluate` -------------------------------------------------

@@ -68,6 +68,13 @@ def report_folder(out_dir, spec_path, force: bool = False) -> OutputFolder:
     return folder
 
 
+def _findings(report: dict, model, solved, x, combo_index: int, multipliers) -> dict:
+    """What sets the design, against the limits it was solved for (``solved``: with goals bought,
+    the model whose limits are those goals)."""
+    rows = report["requirements"] if solved is model else design_record(solved, x, combo_index)["requirements"]
+    return design_findings(solved, x, combo_index, rows, multipliers)
+
+
 def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8, seed: int = 0,
                  optimum=None, model: Optional[DesignModel] = None, force: bool = False,
                  figure_workers: int = 0) -> dict:
@@ -103,12 +110,11 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
         unavailable: List[dict] = []
         report: dict = {"name": spec.name, "title": spec.title, "sensor": spec.sensor,
                         "coverage_charts": any(chain_for(sc).draws_coverage for sc in spec.scenes.values()),
-                        "description": spec.description.strip(),
-                        "spec_file": str(spec_path), "objective_text": spec.objective.text}
+                        "description": spec.description.strip(), "spec_file": str(spec_path),
+                        "objective_text": spec.objective.text}
 
         multipliers = None
-        # the model whose limits the optimum was solved for (with goals bought: their goals)
-        solved = model
+        solved = model  # the model whose limits the optimum was solved for (goals bought: the goals)
         optimize = optimize or optimum is not None
         if optimize:
             t0 = time.perf_counter()
@@ -203,8 +209,7 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
 
         # --- what sets the design --------------------------------------------------------------
         try:
-            rows = report["requirements"] if solved is model else design_record(solved, x, combo_index)["requirements"]
-            report["findings"] = design_findings(solved, x, combo_index, rows, multipliers)
+            report["findings"] = _findings(report, model, solved, x, combo_index, multipliers)
         except Exception as exc:  # noqa: BLE001
             unavailable.append({"section": "what sets the design", "reason": _reason(exc)})
 

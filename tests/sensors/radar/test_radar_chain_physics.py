@@ -133,6 +133,6 @@ def test_coverage_chart_only_for_a_radar_looking_along_the_surface():
     assert not coverage_applies(Scene("radar", ["dust", "wall_clutter"]))  # the ore pass
     assert not coverage_applies(Scene("radar", ["dust"], {"geometry": "shaft"}))
     assert coverage_applies(Scene("radar", ["wall_clutter"], {"geometry": "earth_surface"}))
-    assert not coverage_applies(Scene("sonar", []))
+    assert not coverage_applies(Scene("sonar", ["sea_noise"]))
     with pytest.raises(DomainError):
         evaluate(Scene("radar", ["sea_clutter"], {"geometry": "shaft"}), BASE)

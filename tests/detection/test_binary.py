@@ -452,7 +452,7 @@ def test_out_of_domain():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("swerling", [0, 1, 2, 3, 4])
+@pytest.mark.parametrize("swerling", [0, 2, 3])  # the three code paths: mixture series, closed form, shared RCS
 def test_values_and_gradients_finite_at_the_domain_corners(swerling):
     corners = [(a, n, m, k) for a in (1e-15, 0.1) for n in (1, 100) for m in sorted({1, n}) for k in (1, 100)]
     pfa, n, m, n_p = (jnp.asarray(np.array(c, dtype=float)) for c in zip(*corners))

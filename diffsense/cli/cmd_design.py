@@ -128,10 +128,8 @@ def optimize(
     force: bool = FORCE,
 ):
     """Optimise a spec: the best design meeting every requirement (exit 3 when none can)."""
-    from diffsense.design.activity import design_findings
     from diffsense.design.exact_check import exact_recheck
-    from diffsense.design.goals import buy_goals, plan_lines, plan_record
-    from diffsense.design.optimizer import optimize_design
+    from diffsense.design.goals import optimize_with_goals, plan_lines, plan_record, solved_findings
     from diffsense.design.record import design_record
 
     reporter = reporter_from(ctx)
@@ -139,14 +137,10 @@ def optimize(
     t0 = time.perf_counter()
     model = load_model(design_file, reporter, starts=starts)
     lanes = len(model.combinations) * starts
+    goals = ", then buying the requirements' goals, cheapest first" if model.spec.objective.reach_goals else ""
     with reporter.step(f"compiling and solving {lanes} lanes "
-                       f"({len(model.combinations)} catalog combinations x {starts} starts)"):
-        result = optimize_design(model, n_starts=starts, seed=seed)
-    plan = None
-    if model.spec.objective.reach_goals and result.feasible:
-        with reporter.step("buying the requirements' goals, cheapest first"):
-            plan = buy_goals(model, result, lambda m: optimize_design(m, n_starts=starts, seed=seed))
-        result = plan.optimum
+                       f"({len(model.combinations)} catalog combinations x {starts} starts){goals}"):
+        result, plan = optimize_with_goals(model, n_starts=starts, seed=seed)
     with reporter.step("re-evaluating the optimum"):
         record = design_record(model, result.x, result.combo_index, every_output=json_out is not None)
     check_probabilities(model, record, result.x, result.combo_index, reporter)
@@ -171,12 +165,7 @@ def optimize(
     if plan is not None:
         for line in plan_lines(record["goals"], model.spec.objective.text):
             reporter.info(line)
-    # what sets the design: the limits it was solved for (the goals bought are limits then)
-    solved, rows = model, record["requirements"]
-    if plan is not None:
-        solved = plan.model
-        rows = design_record(solved, result.x, result.combo_index)["requirements"]
-    findings = design_findings(solved, result.x, result.combo_index, rows, result.multipliers)
+    findings = solved_findings(model, plan, result.x, result.combo_index, record["requirements"], result.multipliers)
     record["findings"] = findings
     print_findings(findings, reporter)
     exact_ok = True

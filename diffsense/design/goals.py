@@ -28,10 +28,13 @@ from typing import Callable, List, Optional
 
 import numpy as np
 
+from diffsense.design.activity import design_findings
 from diffsense.design.model import DesignModel
+from diffsense.design.record import design_record
 from diffsense.design.spec.types import goal_status
 
-__all__ = ["GoalPlan", "with_goals", "goal_statuses", "buy_goals", "optimize_with_goals", "plan_record", "plan_lines"]
+__all__ = ["GoalPlan", "with_goals", "goal_statuses", "buy_goals", "optimize_with_goals", "plan_record", "plan_lines",
+           "solved_findings"]
 
 
 @dataclass
@@ -137,3 +140,12 @@ def plan_lines(plan: dict, objective_text: str) -> List[str]:
     lines += [f"goal met without asking: {name!r}" for name in plan["free"]]
     lines += [f"goal not reachable with those bought before it: {name!r}" for name in plan["unreachable"]]
     return lines
+
+
+def solved_findings(model: DesignModel, plan: Optional[GoalPlan], x, combo_index: int, rows, multipliers) -> dict:
+    """What sets the design at ``x``, against the limits it was solved for: ``model``'s with its
+    requirement ``rows``, or with goals bought (``plan``) the goals, whose rows are evaluated here."""
+    if plan is None:
+        return design_findings(model, x, combo_index, rows, multipliers)
+    solved_rows = design_record(plan.model, x, combo_index)["requirements"]
+    return design_findings(plan.model, x, combo_index, solved_rows, multipliers)

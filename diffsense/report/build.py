@@ -13,10 +13,10 @@ from typing import List, Optional
 
 import numpy as np
 
-from diffsense.design.activity import design_findings
+from diffsense.design.goals import solved_findings
 from diffsense.design.model import DesignModel
 from diffsense.design.monte_carlo import attach_probabilities
-from diffsense.design.record import design_record, design_table
+from diffsense.design.record import design_table
 from diffsense.design.spec import load_spec
 from diffsense.scene import chain_for
 from diffsense.report import figures
@@ -68,13 +68,6 @@ def report_folder(out_dir, spec_path, force: bool = False) -> OutputFolder:
     return folder
 
 
-def _findings(report: dict, model, solved, x, combo_index: int, multipliers) -> dict:
-    """What sets the design, against the limits it was solved for (``solved``: with goals bought,
-    the model whose limits are those goals)."""
-    rows = report["requirements"] if solved is model else design_record(solved, x, combo_index)["requirements"]
-    return design_findings(solved, x, combo_index, rows, multipliers)
-
-
 def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8, seed: int = 0,
                  optimum=None, model: Optional[DesignModel] = None, force: bool = False,
                  figure_workers: int = 0) -> dict:
@@ -114,7 +107,7 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
                         "objective_text": spec.objective.text}
 
         multipliers = None
-        solved = model  # the model whose limits the optimum was solved for (goals bought: the goals)
+        plan = None  # the goals bought (reach_goals), whose limits the optimum was solved for
         optimize = optimize or optimum is not None
         if optimize:
             t0 = time.perf_counter()
@@ -124,7 +117,6 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
                 result, plan = optimize_with_goals(model, n_starts=n_starts, seed=seed)
                 if plan is not None:
                     report["goals"] = plan_record(plan)
-                    solved = plan.model
             else:
                 result = optimum
             x, combo_index = np.asarray(result.x, dtype=float), int(result.combo_index)
@@ -194,7 +186,7 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
             try:
                 if jac is None or not jac["autodiff"]:
                     raise RuntimeError("needs the automatic derivatives of the Jacobian section")
-                post = post_optimal_section(solved, inputs, batch, x, combo_index, jac["derivative"], req_values,
+                post = post_optimal_section(model if plan is None else plan.model, inputs, batch, x, combo_index, jac["derivative"], req_values,
                                             multipliers, objective_scale(model))
                 report["post_optimal"] = _post_json(post, model, report)
                 if post.get("reason"):
@@ -209,7 +201,7 @@ def build_report(spec_path, out_dir, *, optimize: bool = True, n_starts: int = 8
 
         # --- what sets the design --------------------------------------------------------------
         try:
-            report["findings"] = _findings(report, model, solved, x, combo_index, multipliers)
+            report["findings"] = solved_findings(model, plan, x, combo_index, report["requirements"], multipliers)
         except Exception as exc:  # noqa: BLE001
             unavailable.append({"section": "what sets the design", "reason": _reason(exc)})
 

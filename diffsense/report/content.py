@@ -196,7 +196,7 @@ def _detection(report: dict) -> List[tuple]:
     for heading, key, titles in (("Detection against range", "range", ("SNR versus range", "Pd versus range")),
                                  ("Receiver operating characteristic", "roc", ("ROC",)),
                                  ("Coverage chart", "coverage", ("Coverage chart (Blake)",))):
-        if key == "coverage" and not report.get("coverage_charts", report["sensor"] == "radar"):
+        if key == "coverage" and not report["coverage_charts"]:
             continue
         body: List[tuple] = []
         for case in cases:

@@ -23,6 +23,18 @@ The bound is met by the maximum-likelihood estimator (the peak of the dwell's Do
 interpolated) once SNR_N is above the estimator's threshold, about 15 dB; below it the error is
 larger (outliers). tests/physics/test_measurement_accuracy.py checks the bound by Monte Carlo of
 that estimator.
+
+A pulse train samples the Doppler phase once per pulse, so the range rate it measures is folded
+into one blind-speed interval of width λ f_p / 2; not knowing it at all within that interval is an
+rms error of λ f_p / (2 sqrt(12)). The radar's reported accuracy joins the two ends as the
+Bayesian (Van Trees) bound with a prior of that variance (Van Trees 1968, *Detection, Estimation,
+and Modulation Theory* I, §2.4.3):
+
+    σ_v = (σ_CRB⁻² + σ_prior⁻²)^(−1/2),      σ_prior = λ f_p / (2 sqrt(12)),
+
+which equals the Cramér–Rao bound to relative error σ_CRB²/(2 σ_prior²) where the estimate is
+good, and the a-priori spread (not infinity) where the echo is lost in noise. The information form
+keeps value and gradient finite at any SNR: 10^(SNR/10) underflows to zero, never overflows.
 """
 
 from __future__ import annotations
@@ -33,7 +45,7 @@ import jax.numpy as jnp
 
 from diffsense.numerics.db import from_db10
 
-__all__ = ["echo_rms_duration_s", "doppler_accuracy_hz", "range_rate_accuracy_mps"]
+__all__ = ["echo_rms_duration_s", "doppler_accuracy_hz", "range_rate_accuracy_mps", "folded_range_rate_accuracy_mps"]
 
 
 def echo_rms_duration_s(n_pulses, prf_hz, pulse_width_s):
@@ -66,3 +78,24 @@ def range_rate_accuracy_mps(snr_db, n_pulses, prf_hz, pulse_width_s, wavelength_
     """Cramér–Rao bound σ_v = λ σ_f / 2 (m/s) on the range rate measured over a coherent dwell of
     ``n_pulses`` pulses (module docstring)."""
     return 0.5 * jnp.asarray(wavelength_m) * doppler_accuracy_hz(snr_db, n_pulses, prf_hz, pulse_width_s)
+
+
+def folded_range_rate_accuracy_mps(snr_db, n_pulses, prf_hz, pulse_width_s, wavelength_m):
+    """Range-rate accuracy (m/s) of a coherent dwell, its Cramér–Rao bound limited by the a-priori
+    spread of a range rate folded into one blind-speed interval (module docstring):
+    ``(σ_CRB⁻² + σ_prior⁻²)^(−1/2)``, σ_prior = λ f_p / (2 sqrt(12)).
+
+    Far above threshold it is the Cramér–Rao bound; with no echo, the prior spread:
+
+    >>> crb = float(range_rate_accuracy_mps(30.0, 16.0, 1e3, 1e-6, 0.03))
+    >>> round(float(folded_range_rate_accuracy_mps(30.0, 16.0, 1e3, 1e-6, 0.03)) / crb, 6)
+    1.0
+    >>> round(float(folded_range_rate_accuracy_mps(-1e4, 16.0, 1e3, 1e-6, 0.03)) * 2 * math.sqrt(12) / 30.0, 12)
+    1.0
+    """
+    lam = jnp.asarray(wavelength_m, dtype=float)
+    t_rms = echo_rms_duration_s(n_pulses, prf_hz, pulse_width_s)
+    # Fisher information on v: (4π t_rms / λ)² · 2 N SNR_1, finite for every snr_db
+    information = (4.0 * math.pi * t_rms / lam) ** 2 * 2.0 * jnp.asarray(n_pulses, dtype=float) * from_db10(snr_db)
+    prior_information = 48.0 / (lam * jnp.asarray(prf_hz)) ** 2  # 1/σ_prior², σ_prior = λ f_p/(2√12)
+    return 1.0 / jnp.sqrt(information + prior_information)

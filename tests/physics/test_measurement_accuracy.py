@@ -18,7 +18,9 @@ import numpy as np
 import pytest
 
 import diffsense  # noqa: F401  (float64)
-from diffsense.physics.measurement_accuracy import doppler_accuracy_hz, echo_rms_duration_s, range_rate_accuracy_mps
+from diffsense.physics.measurement_accuracy import (
+    doppler_accuracy_hz, echo_rms_duration_s, folded_range_rate_accuracy_mps, range_rate_accuracy_mps,
+)
 
 TRIALS = 20000
 
@@ -64,3 +66,19 @@ def test_closed_forms_and_range_rate():
     # finite gradients over the pulses' real relaxation from N = 1
     g = jax.grad(lambda nn: doppler_accuracy_hz(10.0, nn, 1e3, 1e-6))(1.0)
     assert math.isfinite(float(g)) and float(g) < 0
+
+
+def test_folded_accuracy_joins_the_bound_and_the_prior_spread_finitely():
+    lam, prf = 0.03, 2e3
+    prior = lam * prf / (2 * math.sqrt(12))  # rms of a rate uniform over one blind-speed interval
+    for snr_db in (20.0, 0.0, -20.0):
+        crb = float(range_rate_accuracy_mps(snr_db, 16.0, prf, 1e-6, lam))
+        folded = float(folded_range_rate_accuracy_mps(snr_db, 16.0, prf, 1e-6, lam))
+        assert folded == pytest.approx((crb**-2 + prior**-2) ** -0.5, rel=1e-13)
+        assert folded < min(crb, prior)
+    # the echo lost in noise (any SNR, down to where 10^(SNR/10) underflows): the prior spread
+    for snr_db in (-400.0, -1e5, -1e300):
+        value, grads = jax.value_and_grad(folded_range_rate_accuracy_mps, argnums=(0, 1, 2, 3, 4))(
+            snr_db, 16.0, prf, 1e-6, lam)
+        assert float(value) == pytest.approx(prior, rel=1e-13)
+        assert all(math.isfinite(float(g)) for g in grads)

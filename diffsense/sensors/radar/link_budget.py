@@ -34,7 +34,7 @@ from diffsense.errors import DomainError
 from diffsense.numerics.checks import check_range, is_concrete
 from diffsense.numerics.db import DB_PER_NEPER, db10, from_db10
 from diffsense.physics import antennas as _ant
-from diffsense.physics.measurement_accuracy import range_rate_accuracy_mps
+from diffsense.physics.measurement_accuracy import folded_range_rate_accuracy_mps
 from diffsense.physics.constants import BOLTZMANN_J_K, REFERENCE_TEMPERATURE_K, SPEED_OF_LIGHT_M_S
 from diffsense.physics.propagation.free_space import atmospheric_two_way_loss_db
 from diffsense.physics.propagation.refraction import radar_horizon_m
@@ -254,7 +254,7 @@ def link_outputs(p, link: Link, ant: Antenna, wavelength_m, snr_db, signal_dbw, 
         "power_aperture_w_m2": p["peak_power_w"] * duty * from_db10(ant.gain_db) * wavelength_m**2 / (4.0 * math.pi),
         "minimum_range_m": 0.5 * SPEED_OF_LIGHT_M_S * tau,
         "first_blind_speed_mps": 0.5 * wavelength_m * prf,
-        "range_rate_accuracy_mps": range_rate_accuracy_mps(snr_db, p["n_pulses"], prf, tau, wavelength_m),
+        "range_rate_accuracy_mps": folded_range_rate_accuracy_mps(snr_db, p["n_pulses"], prf, tau, wavelength_m),
         "if_gain_db": eq.if_gain_required_db(signal_dbw + 30.0, p["receive_loss_db"], p["mixer_loss_db"],
                                              p["rcs_fade_db"], p["tangential_sensitivity_dbm"], p["tss_margin_db"]),
     }

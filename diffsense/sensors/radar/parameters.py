@@ -226,7 +226,8 @@ _CORE_OUTPUTS = (
     Output("first_blind_speed_mps", "m/s", "λ f_p / 2: the radial speed whose Doppler shift equals the PRF, blind "
            "to pulse-to-pulse (MTI) cancellation (Skolnik 2008 §3.2)"),
     Output("range_rate_accuracy_mps", "m/s", "Cramér–Rao bound λ/(4π t_rms sqrt(2 N SNR)) on the range rate measured "
-           "over a coherent dwell of the N pulses at range_m, t_rms² = ((N² - 1)/f_p² + τ²)/12 "
+           "over a coherent dwell of the N pulses at range_m, t_rms² = ((N² - 1)/f_p² + τ²)/12, limited by the "
+           "spread λ f_p/(2√12) of a rate folded into one blind-speed interval: (σ_CRB⁻² + σ_prior⁻²)^(-1/2) "
            "(diffsense.physics.measurement_accuracy)"),
     Output("if_gain_db", "dB", "IF gain needed for the weakest echo to reach TSS + margin (book 8.16.12)"),
 )

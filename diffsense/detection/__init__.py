@@ -1,7 +1,7 @@
 """Detection theory: thresholds, exact detection probability for Swerling 0-4, required SNR,
 approximations, binary (M-of-N) integration, losses (fluctuation, integration, beam shape, array scan, straddle, eclipsing,
 MTI, STC, quantisation), blind speeds, cumulative detection probability,
-CA-CFAR and matched-filter mismatch.
+CA-, OS-, GO- and SO-CFAR and matched-filter mismatch.
 
 Public contract: :func:`threshold`, :func:`pd`, :func:`required_snr_db` (other tools call them).
 ``swerling`` and ``method`` are static arguments; every other argument may be an array and is
@@ -10,6 +10,25 @@ broadcast, and every function is jit/vmap/grad-able.
 
 from diffsense.detection.binary import optimum_m_binary, pd_binary, per_trial_pfa_binary, required_snr_binary_db
 from diffsense.detection.cfar import cfar_loss_db, cfar_multiplier, cfar_pd
+from diffsense.detection.cfar_greatest_smallest import (
+    go_cfar_loss_db,
+    go_cfar_multiplier,
+    go_cfar_pd,
+    go_cfar_pfa,
+    go_cfar_required_snr_db,
+    so_cfar_loss_db,
+    so_cfar_multiplier,
+    so_cfar_pd,
+    so_cfar_pfa,
+    so_cfar_required_snr_db,
+)
+from diffsense.detection.cfar_ordered import (
+    os_cfar_loss_db,
+    os_cfar_multiplier,
+    os_cfar_pd,
+    os_cfar_pfa,
+    os_cfar_required_snr_db,
+)
 from diffsense.detection.core import pd_given_threshold
 from diffsense.detection.cumulative import closing_target_ranges_m, cumulative_pd, cumulative_pd_closing
 from diffsense.detection.mti import (
@@ -76,6 +95,21 @@ __all__ = [
     "cfar_multiplier",
     "cfar_pd",
     "cfar_loss_db",
+    "os_cfar_multiplier",
+    "os_cfar_pfa",
+    "os_cfar_pd",
+    "os_cfar_required_snr_db",
+    "os_cfar_loss_db",
+    "go_cfar_multiplier",
+    "go_cfar_pfa",
+    "go_cfar_pd",
+    "go_cfar_required_snr_db",
+    "go_cfar_loss_db",
+    "so_cfar_multiplier",
+    "so_cfar_pfa",
+    "so_cfar_pd",
+    "so_cfar_required_snr_db",
+    "so_cfar_loss_db",
     "matched_filter_loss_db",
     "optimum_bandwidth_time_product",
     "beam_shape_loss_db",

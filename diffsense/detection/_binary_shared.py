@@ -13,6 +13,7 @@ import jax
 import jax.numpy as jnp
 from jax.scipy.special import gammaln
 
+from diffsense.numerics.bracketed_newton import newton_decreasing
 from diffsense.numerics.db import DB_PER_NEPER
 from diffsense.detection._binary_trials import _binomial_pmf, _trial
 from diffsense.detection._logpmf import log_poisson_pmf
@@ -184,28 +185,17 @@ def _solve_shared(pd_t, base, v, wg, swerling):
     lim = SAT_DB / DB_PER_NEPER
     s0 = jnp.clip(v50 - jnp.log(-jnp.log(pd_t)), -lim + 1.0, lim - 1.0)
 
-    def body(st):
-        s, lo, hi, _, it = st
+    def decreasing_residual(s):  # -(f, f'): f increases in s
         z = v - s[..., None]
         excess = jnp.sum(wg * _survival(z, swerling), axis=-1)
         miss = jnp.sum(wg * _cdf(z, swerling), axis=-1)
         dens = jnp.sum(wg * _density(z, swerling), axis=-1)
         small = jnp.where(high, miss, excess)
-        f = jnp.where(high, -jnp.log(small), jnp.log(small)) - goal  # increasing in s
-        df = dens / small
-        lo = jnp.where(f < 0, s, lo)
-        hi = jnp.where(f < 0, hi, s)
-        s_new = s - f / df
-        ok = jnp.isfinite(s_new) & (s_new > lo) & (s_new < hi)
-        s_new = jnp.where(ok, s_new, 0.5 * (lo + hi))
-        s_new = jnp.where(f == 0, s, s_new)
-        return s_new, lo, hi, jnp.abs(s_new - s), it + 1
+        f = jnp.where(high, -jnp.log(small), jnp.log(small)) - goal
+        return -f, -dens / small
 
-    def cond(st):
-        return (st[4] < _ROOT_MAX_ITER) & jnp.any(st[3] > _ROOT_TOL)
-
-    init = (s0, jnp.full_like(s0, -lim), jnp.full_like(s0, lim), jnp.full_like(s0, jnp.inf), 0)
-    s = jax.lax.while_loop(cond, body, init)[0]
+    s, _, _ = newton_decreasing(decreasing_residual, s0, jnp.full_like(s0, -lim), jnp.full_like(s0, lim),
+                                lambda s: _ROOT_TOL, _ROOT_MAX_ITER)
     return jnp.where(jnp.abs(s) < lim - 1e-6, s, jnp.nan)
 
 

@@ -67,6 +67,7 @@ import numpy as np
 from jax.scipy.special import betainc, gammaln, ndtri
 
 from diffsense.numerics.checks import check_choice, is_concrete
+from diffsense.numerics.bracketed_newton import forward_slope, newton_decreasing
 from diffsense.numerics.db import from_db10
 from diffsense.detection import core  # the known-noise detector model
 from diffsense.detection._domain import admit, guard
@@ -154,25 +155,8 @@ def _solve_log_alpha(log_pfa, m, n):
     lo = jnp.full_like(hi, -30.0)
     s0 = _paulson_log_alpha(log_pfa, m, n)
     s0 = jnp.where(jnp.isfinite(s0) & (s0 > lo) & (s0 < hi), s0, hi - 1e-3)
-
-    def body(state):
-        s, lo, hi, _, it = state
-        g, dg = jax.jvp(lambda s_: _log_pfa(jnp.exp(s_), m, n), (s,), (jnp.ones_like(s),))
-        g = g - log_pfa
-        lo = jnp.where(g > 0.0, s, lo)
-        hi = jnp.where(g <= 0.0, s, hi)
-        s_newton = s - g / dg
-        ok = jnp.isfinite(s_newton) & (s_newton > lo) & (s_newton < hi)
-        s_new = jnp.where(ok, s_newton, 0.5 * (lo + hi))
-        s_new = jnp.where(g == 0.0, s, s_new)
-        return s_new, lo, hi, jnp.abs(s_new - s), it + 1
-
-    def cond(state):
-        _, _, _, delta, it = state
-        return (it < _MAX_NEWTON) & jnp.any(delta > 1e-14)
-
-    init = (s0, lo, hi, jnp.full_like(s0, jnp.inf), 0)
-    s, _, _, _, _ = jax.lax.while_loop(cond, body, init)
+    residual = lambda s_: _log_pfa(jnp.exp(s_), m, n) - log_pfa
+    s, _, _ = newton_decreasing(forward_slope(residual), s0, lo, hi, lambda s_: 1e-14, _MAX_NEWTON)
     return s
 
 

@@ -18,7 +18,14 @@ Declared losses (budget order):
   ``"cell_averaging"`` — the exact CA-CFAR loss for the scene's Swerling case, Pd, Pfa and
   integrated pulses with ``cfar_reference_cells`` reference cells (Finn & Johnson 1968;
   :func:`diffsense.detection.cfar_loss_db`: the SNR the CFAR detector needs minus the known-noise
-  requirement, both for N noncoherently integrated pulses; N = 1 with coherent integration).
+  requirement, both for N noncoherently integrated pulses; N = 1 with coherent integration);
+  ``"ordered_statistic"`` — the exact OS-CFAR loss (Rohling 1983), the noise estimated by the k-th
+  smallest of ``cfar_reference_cells`` cells, k = ceil(``cfar_rank_fraction`` n), one sample per
+  cell (so only with coherent integration; :func:`diffsense.detection.os_cfar_loss_db`);
+  ``"greatest_of"`` / ``"smallest_of"`` — the exact GO/SO-CFAR losses with two half windows of
+  ``cfar_half_window_cells`` cells (:func:`diffsense.detection.go_cfar_loss_db`, ``so_cfar_loss_db``).
+  The cell counts are integers; an optimizer's relaxed count interpolates the loss linearly
+  between the integers around it.
 * ``misc_loss_db`` (option ``misc_loss_model``): ``"given"`` only (book 9.9.1: 1.3 dB).
 """
 
@@ -27,7 +34,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable, Mapping, Optional, Tuple
 
+import jax
+import jax.numpy as jnp
+
 from diffsense import detection as _det
+from diffsense.detection import cfar_greatest_smallest as _gs
+from diffsense.detection import cfar_ordered as _os
 from diffsense.sensors.chain import Param
 
 __all__ = ["Choice", "LossModel", "LOSS_MODELS", "loss_model_options", "loss_model_parameters", "modelled_losses_db",
@@ -77,11 +89,47 @@ def _beam_shape(dims: int) -> Choice:
                   "`diffsense.detection.beam_shape_loss_db`)")
 
 
-def _needs_detection_model(scene, option):
-    if option(scene, "detectability") == "given":
-        return ("cfar_model='cell_averaging' computes the CFAR loss for the scene's pd and pfa; "
-                "detectability='given' has neither (use detectability='exact' or cfar_model='given')")
-    return None
+def _needs_detection_model(name):
+    def refusal(scene, option):
+        if option(scene, "detectability") == "given":
+            return (f"cfar_model='{name}' computes the CFAR loss for the scene's pd and pfa; "
+                    "detectability='given' has neither (use detectability='exact' or cfar_model='given')")
+        return None
+    return refusal
+
+
+def _single_sample_detector(name):
+    def refusal(scene, option):
+        if option(scene, "integration") != "coherent":
+            return (f"cfar_model='{name}' is exact for one sample per cell; noncoherent integration puts N "
+                    f"pulses in each cell (use integration='coherent' or cfar_model='cell_averaging')")
+        return _needs_detection_model(name)(scene, option)
+    return refusal
+
+
+def _between_integer_counts(loss_at, count):
+    """``loss_at(c)`` for an integer count c, linearly interpolated between the integers around a
+    relaxed real ``count`` (an optimizer's integer variable): exact at integers, continuous, its
+    derivative the difference of the two neighbours. The counts themselves carry no derivative."""
+    low = jax.lax.stop_gradient(jnp.floor(count))
+    frac = count - low
+    high = jnp.where(frac > 0.0, low + 1.0, low)  # no evaluation past an integer upper bound
+    return (1.0 - frac) * loss_at(low) + frac * loss_at(high)
+
+
+def _ordered_statistic_loss_db(scene, p, option):
+    def loss_at(n):
+        rank = jnp.ceil(p["cfar_rank_fraction"] * n - 1e-9)  # k = ceil(f n): 1 <= k <= n
+        return _os.os_cfar_loss_db_traced(p["pd"], p["pfa"], n, jax.lax.stop_gradient(rank), option(scene, "swerling"))
+    return _between_integer_counts(loss_at, p["cfar_reference_cells"])
+
+
+def _split_window_loss_db(greatest: bool):
+    def loss_db(scene, p, option):
+        return _between_integer_counts(
+            lambda m: _gs.split_window_cfar_loss_db_traced(p["pd"], p["pfa"], m, greatest, option(scene, "swerling")),
+            p["cfar_half_window_cells"])
+    return loss_db
 
 
 def _cell_averaging_loss_db(scene, p, option):
@@ -94,6 +142,15 @@ _CELLS = Param("cfar_reference_cells", "1", "reference cells M averaged by the C
                "holding the N integrated pulses); the loss is exact for the scene's Swerling case, pd, pfa and "
                "n_pulses", 16.0, 1.0, 1e4, integer=True)
 
+_OS_CELLS = Param("cfar_reference_cells", "1", "reference cells n ranked by the OS-CFAR noise estimate (one "
+                  "sample each)", 24.0, 1.0, float(_os.TRACED_MAX_CELLS), integer=True)
+_OS_RANK = Param("cfar_rank_fraction", "1", "rank of the OS-CFAR noise estimate as a fraction f of the reference "
+                 "cells: the k-th smallest, k = ceil(f n) (Rohling 1983: about 3/4)", 0.75, 0.01, 1.0)
+
+_HALF_WINDOW = Param("cfar_half_window_cells", "1", "reference cells m in each of the two half windows (leading and "
+                     "lagging) whose sums the GO/SO-CFAR estimate compares, one sample each", 8.0, 1.0,
+                     float(_gs.TRACED_MAX_HALF_WINDOW), integer=True)
+
 LOSS_MODELS: Tuple[LossModel, ...] = (
     LossModel("scan_loss_db", "scan_loss_model", {
         "given": _given("scan_loss_db", "beam-shape / scanning loss (book 9.9.1: 1.6 dB for 1-D scan)"),
@@ -105,7 +162,22 @@ LOSS_MODELS: Tuple[LossModel, ...] = (
         "cell_averaging": Choice((_CELLS,), _cell_averaging_loss_db,
                                  "exact CA-CFAR loss for the scene's Swerling case, `pd`, `pfa` and `n_pulses` "
                                  "with `cfar_reference_cells` cells (Finn & Johnson 1968; "
-                                 "`diffsense.detection.cfar_loss_db`)", _needs_detection_model),
+                                 "`diffsense.detection.cfar_loss_db`)", _needs_detection_model("cell_averaging")),
+        "ordered_statistic": Choice((_OS_CELLS, _OS_RANK), _ordered_statistic_loss_db,
+                                    "exact OS-CFAR loss (one sample per cell: coherent integration) for the scene's "
+                                    "Swerling case, `pd` and `pfa`, the noise taken as the k-th smallest of "
+                                    "`cfar_reference_cells` cells, k = ceil(`cfar_rank_fraction` n) (Rohling 1983; "
+                                    "`diffsense.detection.os_cfar_loss_db`)",
+                                    _single_sample_detector("ordered_statistic")),
+        "greatest_of": Choice((_HALF_WINDOW,), _split_window_loss_db(True),
+                              "exact GO-CFAR loss (one sample per cell: coherent integration), the noise taken as "
+                              "the greater of two half-window sums of `cfar_half_window_cells` cells (Hansen & "
+                              "Sawyers 1980; `diffsense.detection.go_cfar_loss_db`)",
+                              _single_sample_detector("greatest_of")),
+        "smallest_of": Choice((_HALF_WINDOW,), _split_window_loss_db(False),
+                              "exact SO-CFAR loss (one sample per cell: coherent integration), the noise taken as "
+                              "the smaller of two half-window sums of `cfar_half_window_cells` cells (Weiss 1982; "
+                              "`diffsense.detection.so_cfar_loss_db`)", _single_sample_detector("smallest_of")),
     }),
     LossModel("misc_loss_db", "misc_loss_model", {
         "given": _given("misc_loss_db", "miscellaneous losses (book 9.9.1: 1.3 dB)"),

@@ -15,7 +15,7 @@ def test_every_declared_choice_is_an_option_with_its_parameters():
     for model in LOSS_MODELS:
         assert OPTIONS[model.option] == (model.default, tuple(model.choices))
         for name, choice in model.choices.items():
-            table = parameter_table(Scene("radar", [], {model.option: name, "detectability": "exact"}))
+            table = parameter_table(Scene("radar", [], {model.option: name, "detectability": "exact", "integration": "coherent"}))
             assert all(q.name in table for q in choice.parameters)
             others = {q.name for c in model.choices.values() for q in c.parameters} - {q.name for q in choice.parameters}
             assert not others & set(table)

@@ -9,7 +9,6 @@ error is one line starting ``error:``; progress is shown only on a terminal and 
 from __future__ import annotations
 
 import contextlib
-import json
 import math
 from pathlib import Path
 from typing import Iterator, Optional
@@ -117,7 +116,8 @@ class Reporter:
         characters escaped."""
         t = Table(title=Text(plain(title)))
         for c in columns:
-            t.add_column(Text(plain(c)), justify="right" if c in right else "left")
+            # a long word folds onto the next line, never cut to an ellipsis (a value must be read whole)
+            t.add_column(Text(plain(c)), justify="right" if c in right else "left", overflow="fold")
         for row in rows:
             t.add_row(*(Text(plain(cell.plain), style=cell.style) if isinstance(cell, Text) else Text(plain(cell))
                         for cell in row))

@@ -86,6 +86,7 @@ from jax.scipy.special import gammaln
 from diffsense.detection._cfar_engine import (
     law_loss_db,
     binomial_tail_table,
+    binomial_tail_table_traced,
     log_binomial_tail,
     log_expm1,
     logsumexp,
@@ -219,16 +220,6 @@ def _law(where, n_cells, greatest: bool):
     )
 
 
-def _binomial_tail_traced(n_trials, j_min, length: int):
-    """:func:`binomial_tail_table` from numbers that may be traced (``log C`` from ``gammaln``)."""
-    j = j_min + jnp.arange(float(length))
-    inside = j <= n_trials
-    j_in = jnp.where(inside, j, 0.0)
-    rest = jnp.where(inside, n_trials - j, 0.0)
-    log_c = gammaln(n_trials + 1.0) - gammaln(j_in + 1.0) - gammaln(rest + 1.0)
-    return jnp.stack([j_in, rest, jnp.where(inside, log_c, -jnp.inf)])
-
-
 def _poisson_table_traced(j_lo, count, length: int):
     """:func:`_poisson_table` (``count`` terms from ``j_lo``) from numbers that may be traced."""
     j = j_lo + jnp.arange(float(length))
@@ -247,8 +238,8 @@ def _law_traced(half_window_cells, greatest: bool):
     return _HalfWindowExtreme(
         m=m,
         greatest=np.float64(greatest),
-        ibeta_table=_binomial_tail_traced(2.0 * m - 1.0, m, TRACED_MAX_HALF_WINDOW),
-        tilt_table=_binomial_tail_traced(a + b - 1.0, a, TRACED_MAX_HALF_WINDOW + 1),
+        ibeta_table=binomial_tail_table_traced(2.0 * m - 1.0, m, TRACED_MAX_HALF_WINDOW),
+        tilt_table=binomial_tail_table_traced(a + b - 1.0, a, TRACED_MAX_HALF_WINDOW + 1),
         q_table=_poisson_table_traced(0.0, m, TRACED_MAX_HALF_WINDOW),
         p_table=_poisson_table_traced(m, series, longest),
     )

@@ -64,11 +64,11 @@ from functools import partial
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jax.scipy.special import gammaln
 
 from diffsense.detection._cfar_engine import (
     law_loss_db,
     binomial_tail_table,
+    binomial_tail_table_traced,
     log_binomial_tail,
     log_expm1,
     log_one_minus_exp_neg,
@@ -149,10 +149,9 @@ def _os_law(where, n_cells, k):
 def _os_law_traced(n_cells, rank):
     """The law of :class:`_OrderStatistic` from numbers that may be traced (n <= 64).
 
-    The binomial coefficients of the distribution function come from ``gammaln`` (relative
-    error of a coefficient ~eps·log C(64, 32) = 1e-14, against the correctly rounded table of
-    :func:`_os_law`); padding as there. Real n interpolates the product smoothly between
-    integers; the rank counts the factors ``i < k``.
+    The binomial tail of the distribution function is :func:`binomial_tail_table_traced`
+    (coefficients from ``gammaln``); padding as in :func:`_os_law`. Real n interpolates the
+    product smoothly between integers; the rank counts the factors ``i < k``.
     """
     n = jnp.asarray(n_cells, dtype=float)
     k = jnp.asarray(rank, dtype=float)
@@ -160,11 +159,7 @@ def _os_law_traced(n_cells, rank):
     used = i < k
     weight = jnp.where(used, 1.0, 0.0)
     log_rank = jnp.where(used, jnp.log(jnp.where(used, n - i, 1.0)), 0.0)
-    j = k + i  # the binomial tail's terms j = k .. n
-    inside = j <= n
-    rest = jnp.where(inside, n - j, 0.0)
-    log_c = gammaln(n + 1.0) - gammaln(jnp.where(inside, j, 0.0) + 1.0) - gammaln(rest + 1.0)
-    cdf_table = jnp.stack([jnp.where(inside, j, 0.0), rest, jnp.where(inside, log_c, -jnp.inf)])
+    cdf_table = binomial_tail_table_traced(n, k, TRACED_MAX_CELLS)  # j = k .. n
     return _OrderStatistic(n=n, k=k, weight=weight, log_rank=log_rank, cdf_table=cdf_table)
 
 

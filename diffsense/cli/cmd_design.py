@@ -46,7 +46,9 @@ def load_model(design_file: Path, reporter: Reporter, *, starts: Optional[int] =
             # while this thread traces the small check program, which the other core compiles
             if starts:
                 prepare(model, n_starts=starts)
-            model.programs.start("check", "search", "dense", *(("evaluation",) if tangents else ()))
+            # a report's program of derivatives, the longest to compile after the solver's, before
+            # the interval programs: it compiles while they are traced and the solve runs
+            model.programs.start("check", *(("evaluation",) if tangents else ()), "search", "dense")
         with reporter.step("checking the chain at the initial design and the box corners"):
             check_evaluable(model)
         return model

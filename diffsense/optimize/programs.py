@@ -65,12 +65,13 @@ LOG_VARIABLE = "DIFFSENSE_PROGRAM_LOG"
 
 
 def code_version() -> str:
-    """A digest of this package's Python source (every ``*.py`` file under ``diffsense``): a
-    program traced from other code is never reused."""
+    """A digest of this package's Python source and data (every ``*.py`` and ``*.npz`` file under
+    ``diffsense``, e.g. the stored Chebyshev coefficients): a program traced from other code or
+    other constants is never reused."""
     global _CODE_VERSION
     if _CODE_VERSION is None:
         h = hashlib.sha256()
-        for path in sorted(_PACKAGE.rglob("*.py")):
+        for path in sorted([*_PACKAGE.rglob("*.py"), *_PACKAGE.rglob("*.npz")]):
             h.update(str(path.relative_to(_PACKAGE)).encode())
             h.update(path.read_bytes())
         _CODE_VERSION = h.hexdigest()
@@ -169,6 +170,7 @@ class Program:
         self.key = hashlib.sha256(text.encode()).hexdigest()[:40]
         self._future: Optional[concurrent.futures.Future] = None
         self._compiled = None
+        self._exported_module = None
         #: the module came from the cache folder (not traced); seconds to trace or load it, and
         #: to compile it (or load it from the XLA cache)
         self.loaded_from_disk = False
@@ -227,28 +229,46 @@ class Program:
                 pass  # a read-only cache still runs, tracing again next time
         return exported
 
-    def _compile(self, exported):
+    def _prepare(self, exported):
+        """What compiling ``exported`` needs from this thread: the stored executable's path when
+        one may be loaded, else the module lowered for XLA. Lowering holds Python's lock, so it
+        is done here, in the thread that traces, and the pool gets only XLA's compilation, which
+        runs without the lock: a program's compilation then starts as soon as it is traced
+        instead of waiting for the lock behind the tracing of the next program."""
         t0 = time.perf_counter()
-        with _LOCK:
-            COMPILATIONS[self.name] = COMPILATIONS.get(self.name, 0) + 1
         self._out = (exported.out_tree, [(tuple(a.shape), np.dtype(a.dtype)) for a in exported.out_avals])
         trees = self._trees(exported)
         path = self._executable_path() if _runtime_ready(exported) else None
+        lowered = self._lower(exported) if path is None or not path.exists() else None
+        return trees, path, lowered, time.perf_counter() - t0
+
+    def _lower(self, exported):
+        """(``exported`` lowered for XLA with the preset's options, those options)."""
+        call = _named(_packing(exported.call) if self.packed else exported.call, self.name)
+        opts = compiler_options(self.preset)
+        jitted = jax.jit(call, compiler_options=opts) if opts else jax.jit(call)
+        return jitted.lower(*self.avals), opts
+
+    def _compile(self, prepared):
+        trees, path, lowered, seconds = prepared
+        t0 = time.perf_counter()
+        with _LOCK:
+            COMPILATIONS[self.name] = COMPILATIONS.get(self.name, 0) + 1
         # the options the preset asks for: an executable is stored only when XLA accepted them
-        compiled = None if path is None else _load_executable(path, trees, preset_options(self.preset))
+        compiled = None if lowered is not None else _load_executable(path, trees, preset_options(self.preset))
         self.executable_loaded = compiled is not None
         if compiled is None:
-            call = _named(_packing(exported.call) if self.packed else exported.call, self.name)
-            opts = compiler_options(self.preset)
-            jitted = jax.jit(call, compiler_options=opts) if opts else jax.jit(call)
+            if lowered is None:  # a stored executable that cannot be loaded: compile again
+                lowered = self._lower(self._exported_module)
+            module, opts = lowered
             _HITS.count = 0
-            compiled = jitted.lower(*self.avals).compile()
+            compiled = module.compile()
             # an executable JAX read from its own persistent cache serialises without the
             # kernels XLA's CPU backend built for it (loading that copy fails at run time):
             # only a fresh compilation is kept
             if path is not None and not _HITS.count and opts == preset_options(self.preset):
                 _store_executable(path, compiled, trees)
-        self.compile_seconds = time.perf_counter() - t0
+        self.compile_seconds = seconds + time.perf_counter() - t0
         return compiled
 
     def _trees(self, exported):
@@ -273,11 +293,12 @@ class Program:
         """Export (trace, or load from disk) in this thread and compile in the pool (or here,
         without one). Idempotent."""
         if self._future is None and self._compiled is None:
-            exported = self._exported()
+            self._exported_module = exported = self._exported()
+            prepared = self._prepare(exported)
             if self.pool is None:
-                self._compiled = self._compile(exported)
+                self._compiled = self._compile(prepared)
             else:
-                self._future = self.pool.submit(self._compile, exported)
+                self._future = self.pool.submit(self._compile, prepared)
         return self
 
     def compiled(self):

@@ -120,6 +120,16 @@ class RadarChain(Chain):
         if scene.has("closing_target") and option(scene, "detectability") == "given":
             raise DomainError("radar scene: the part closing_target needs a detection model for Pd at each look; "
                               "detectability='given' writes only the required SNR (use 'exact')")
+        if option(scene, "integration") == "binary":
+            if option(scene, "detectability") != "exact":
+                raise DomainError(
+                    f"radar scene: integration='binary' is the exact M-of-N law of pd and pfa; detectability="
+                    f"'{option(scene, 'detectability')}' is another detection model (use detectability='exact')")
+            if scene.option("cfar_model", "given") != "given":
+                raise DomainError(
+                    f"radar scene: cfar_model='{scene.option('cfar_model', 'given')}' sets a threshold on one "
+                    "integrated sample; M-of-N integration thresholds every pulse at the per-pulse false-alarm "
+                    "probability (use cfar_model='given' with the loss at that level)")
         for reason in loss_model_refusals(scene, option):
             raise DomainError(f"radar scene: {reason}")
         surface = [part for part in SURFACE_PARTS if scene.has(part)]

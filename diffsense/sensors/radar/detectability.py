@@ -16,13 +16,22 @@ Detectability (static option ``detectability``):
 * ``"given"`` — the per-pulse requirement is the parameter ``detectability_db`` (read from the
   book's charts, e.g. 15.2 + 8 − 15 = 8.2 dB in §9.9.1.1); no Pd model, so ``pd`` and the
   integration outputs are not produced.
-* ``"shnidman"``, ``"albersheim"``, ``"barton"`` — as ``"exact"``, with the requirement from the
+* ``"shnidman"``, ``"albersheim"``, ``"barton"``, ``"chebyshev"`` — as ``"exact"``, with the requirement from the
   closed-form approximation ``required_snr_db(..., method=...)`` (Shnidman 2002: Swerling 0-4,
   0.1 ≤ Pd ≤ 0.99, 1e-9 ≤ Pfa ≤ 1e-3, N ≤ 100; Albersheim 1981: Swerling 0 only, 0.1 ≤ Pd ≤ 0.9,
   1e-7 ≤ Pfa ≤ 1e-3; Barton 2005: Swerling 0-4, 0.1 ≤ Pd ≤ 0.999, 1e-12 ≤ Pfa ≤ 1e-2, N ≤ 100;
-  NaN outside, and Albersheim with a fluctuating target is refused). Their errors against the
+  Chebyshev: an interpolant of the exact values within 0.005 dB, Swerling 0-4, 0.05 ≤ Pd ≤
+  1 − 1e-6, 1e-15 ≤ Pfa ≤ 1e-2, N ≤ 1e4, what ``[options] fidelity = "fast"`` picks; NaN outside, and Albersheim with a fluctuating target is refused). Their errors against the
   exact value are in :mod:`diffsense.detection.required_snr` and :mod:`diffsense.detection.barton`.
   ``pd`` stays the exact Pd for N pulses: only the requirement is approximated.
+
+Integration (static option ``integration``): ``"noncoherent"`` (square-law sum of N pulses),
+``"coherent"`` (single-pulse requirement − 10 log10 N) or ``"binary"``: M-of-N binary integration,
+each of the N = ``n_pulses`` pulses (at most 100) compared with its own threshold and a detection
+declared when at least M = ``binary_m`` cross (:func:`diffsense.detection.required_snr_binary_db`
+and :func:`diffsense.detection.pd_binary`: exact for Swerling 0-4, Swerling 1 and 3 one RCS draw
+for the dwell; with ``detectability = "exact"`` only). A relaxed N or M is interpolated linearly
+between the integers around it (bilinear), exact at integers.
 
 Detection margin (dB): detection needs ``S/(N + J) ≥ SNR_req`` and ``S/C ≥ SCR_req``; the
 smooth combined criterion
@@ -44,6 +53,7 @@ from diffsense.numerics.db import db10, power_sum_db
 from diffsense.physics.propagation.refraction import radar_horizon_m
 from diffsense.sensors.chain import needs
 from diffsense.sensors.radar import equation as eq
+from diffsense.sensors.radar.integer_counts import between_integer_counts
 from diffsense.sensors.radar.structure import option
 
 __all__ = ["USES_REQUIRED_SNR", "Requirement", "required_snr", "detection_margin_db", "requirement_outputs",
@@ -56,7 +66,7 @@ USES_REQUIRED_SNR = ("required_snr_db", "snr_margin_db", "faded_snr_margin_db", 
 _PD_SNR_DB = (-50.0, 80.0)
 #: values of option ``detectability`` that solve the requirement for N pulses directly, each with
 #: ``diffsense.detection.required_snr_db(..., method=value)``
-SOLVED_METHODS = ("exact", "shnidman", "albersheim", "barton")
+SOLVED_METHODS = ("exact", "shnidman", "albersheim", "barton", "chebyshev")
 
 
 class Requirement(NamedTuple):
@@ -84,6 +94,11 @@ def required_snr(scene, p, wanted=None) -> Requirement:
     need_gain = needs(wanted, "integration_gain_db", "integrated_snr_db")
     method = option(scene, "detectability") if option(scene, "detectability") in SOLVED_METHODS else "exact"
     single = lambda: _det.required_snr_db(p["pd"], p["pfa"], jnp.ones_like(n), swerling, method=method)
+    if option(scene, "integration") == "binary":
+        reqn = _at_binary_counts(p, lambda nn, m: _det.required_snr_binary_db(p["pd"], p["pfa"], nn, m, swerling)) \
+            if need_req or need_gain else None
+        req1 = single() if need_gain else None
+        return Requirement(reqn, req1 - reqn if need_gain else None, req1)
     if coherent or option(scene, "detectability") == "book":
         if coherent:
             gain = db10(n)
@@ -96,6 +111,14 @@ def required_snr(scene, p, wanted=None) -> Requirement:
     reqn = _det.required_snr_db(p["pd"], p["pfa"], n, swerling, method=method) if need_req or need_gain else None
     req1 = single() if need_gain else None
     return Requirement(reqn, req1 - reqn if need_gain else None, req1)
+
+
+def _at_binary_counts(p, value_at):
+    """``value_at(N, M)`` of M-of-N binary integration at N = ``n_pulses`` and M = ``binary_m``,
+    each interpolated linearly between the integers around it (bilinear in a relaxed N and M;
+    exact at integers, :func:`between_integer_counts`)."""
+    return between_integer_counts(
+        lambda nn: between_integer_counts(lambda m: value_at(nn, m), p["binary_m"]), p["n_pulses"])
 
 
 def detection_margin_db(required_snr_db, sjnr_db, required_scr_db=None, scr_db=None):
@@ -125,6 +148,9 @@ def pd_at(scene, p, sjnr_db, req: Requirement):
     where Pd is 0 or 1 to float64)."""
     swerling = option(scene, "swerling")
     n = p["n_pulses"]
+    if option(scene, "integration") == "binary":
+        snr = jnp.clip(sjnr_db, *_PD_SNR_DB)
+        return _at_binary_counts(p, lambda nn, m: _det.pd_binary(snr, p["pfa"], nn, m, swerling))
     if option(scene, "detectability") in SOLVED_METHODS and option(scene, "integration") == "noncoherent":
         return _det.pd(jnp.clip(sjnr_db, *_PD_SNR_DB), p["pfa"], n, swerling)
     return _det.pd(jnp.clip(sjnr_db + req.integration_gain_db, *_PD_SNR_DB), p["pfa"], jnp.ones_like(n), swerling)

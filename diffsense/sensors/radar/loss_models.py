@@ -41,6 +41,7 @@ from diffsense import detection as _det
 from diffsense.detection import cfar_greatest_smallest as _gs
 from diffsense.detection import cfar_ordered as _os
 from diffsense.sensors.chain import Param
+from diffsense.sensors.radar.integer_counts import between_integer_counts
 
 __all__ = ["Choice", "LossModel", "LOSS_MODELS", "loss_model_options", "loss_model_parameters", "modelled_losses_db",
            "loss_model_refusals", "loss_models_markdown"]
@@ -107,26 +108,16 @@ def _single_sample_detector(name):
     return refusal
 
 
-def _between_integer_counts(loss_at, count):
-    """``loss_at(c)`` for an integer count c, linearly interpolated between the integers around a
-    relaxed real ``count`` (an optimizer's integer variable): exact at integers, continuous, its
-    derivative the difference of the two neighbours. The counts themselves carry no derivative."""
-    low = jax.lax.stop_gradient(jnp.floor(count))
-    frac = count - low
-    high = jnp.where(frac > 0.0, low + 1.0, low)  # no evaluation past an integer upper bound
-    return (1.0 - frac) * loss_at(low) + frac * loss_at(high)
-
-
 def _ordered_statistic_loss_db(scene, p, option):
     def loss_at(n):
         rank = jnp.ceil(p["cfar_rank_fraction"] * n - 1e-9)  # k = ceil(f n): 1 <= k <= n
         return _os.os_cfar_loss_db_traced(p["pd"], p["pfa"], n, jax.lax.stop_gradient(rank), option(scene, "swerling"))
-    return _between_integer_counts(loss_at, p["cfar_reference_cells"])
+    return between_integer_counts(loss_at, p["cfar_reference_cells"])
 
 
 def _split_window_loss_db(greatest: bool):
     def loss_db(scene, p, option):
-        return _between_integer_counts(
+        return between_integer_counts(
             lambda m: _gs.split_window_cfar_loss_db_traced(p["pd"], p["pfa"], m, greatest, option(scene, "swerling")),
             p["cfar_half_window_cells"])
     return loss_db

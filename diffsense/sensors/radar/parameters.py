@@ -40,11 +40,20 @@ def _core_parameters(scene):
         *loss_model_parameters(scene),
         Param("prf_hz", "Hz", "pulse repetition frequency f_p", None, 0.0, 1e8, lo_open=True),
         Param("n_pulses", "1", "pulses integrated per detection N (real-valued relaxation)", 1.0, 1.0, 1e4, integer=True),
+        *_binary_parameters(scene),
         Param("tangential_sensitivity_dbm", "dBm", "detector tangential sensitivity TSS (book 8.16.12: -75 dBm)", -75.0, -200.0, 50.0),
         Param("tss_margin_db", "dB", "working level above TSS for the weakest echo (book 8.16.12: 13 dB)", 13.0, 0.0, 60.0),
         Param("mixer_loss_db", "dB", "mixer conversion loss ahead of the IF amplifier (book 8.16.9.3: 8 dB)", 0.0, 0.0, 60.0),
         Param("rcs_fade_db", "dB", "depth of the RCS fades designed for (book 8.16.11: 15 dB)", 0.0, 0.0, 60.0),
     ]
+
+
+def _binary_parameters(scene):
+    if option(scene, "integration") != "binary":
+        return []
+    return [Param("binary_m", "1", "M of M-of-N binary integration: a detection needs at least M of the n_pulses pulses "
+                  "(N ≤ 100) over their own threshold, M ≤ N (Shnidman 1998: the best M is about 10^-0.02 N^0.8 for "
+                  "Swerling 0, 1, 3)", None, 1.0, 100.0, integer=True)]
 
 
 def _antenna_parameters(scene):

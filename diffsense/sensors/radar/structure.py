@@ -56,8 +56,8 @@ SURFACE_PARTS = ("sea_clutter", "multipath")
 OPTIONS = {
     "swerling": (0, (0, 1, 2, 3, 4)),
     "detector": ("square_law", ("square_law", "linear")),
-    "integration": ("noncoherent", ("noncoherent", "coherent")),
-    "detectability": ("exact", ("exact", "book", "given", "shnidman", "albersheim", "barton")),
+    "integration": ("noncoherent", ("noncoherent", "coherent", "binary")),
+    "detectability": ("exact", ("exact", "book", "given", "shnidman", "albersheim", "barton", "chebyshev")),
     "matched_filter": ("two_tuned", ("matched",) + tuple(FILTERS)),
     "antenna": ("circular_aperture", ("circular_aperture", "rectangular_aperture", "specified")),
     "gas_model": ("itu_p676", ("itu_p676", "itu_p676_approx", "specified")),

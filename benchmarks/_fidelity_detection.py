@@ -6,7 +6,8 @@
    ``DIFFSENSE_X64=0``, in a child process), ``book`` (the exact single-pulse value less the
    book's 8 log10 N gain, Brooker 8.16.13), ``shnidman`` (Shnidman 2002), ``albersheim``
    (Albersheim 1981, steady target only), ``barton`` (Barton 2005,
-   :mod:`diffsense.detection.barton`) and ``given`` (the spec writes the number: no model).
+   :mod:`diffsense.detection.barton`), ``chebyshev`` (the interpolant of the exact values,
+   :mod:`diffsense.detection.chebyshev_snr`) and ``given`` (the spec writes the number: no model).
    Reference: the mpmath inversion of the exact Pd (``tests/reference/mp_detection.py``).
 2. **Matched filter** (the radar option ``matched_filter``): the mismatch loss of a rectangular
    pulse through each receiver filter (:func:`diffsense.detection.matched_filter_loss_db`) against
@@ -72,7 +73,7 @@ REFERENCE_DPS = 30
 SHNIDMAN_DOMAIN = ((0.1, 0.99), (1e-9, 1e-3))
 ALBERSHEIM_DOMAIN = ((0.1, 0.9), (1e-7, 1e-3))
 #: detectability values a spec may set that take the same parameters as "exact"
-SAME_PARAMETER_OPTIONS = ("book", "shnidman", "albersheim", "barton")
+SAME_PARAMETER_OPTIONS = ("book", "shnidman", "albersheim", "barton", "chebyshev")
 
 
 # --- compiling -------------------------------------------------------------------------------
@@ -197,8 +198,9 @@ def detectability(quick: bool) -> Family:
         alb = _in(pd, ALBERSHEIM_DOMAIN[0]) & _in(pfa, ALBERSHEIM_DOMAIN[1])
         sub = lambda mask: tuple(jnp.asarray(a[mask]) for a in (pd, pfa, n))  # noqa: E731
         jobs = [(_required_snr_fn("exact", SWERLINGS), args), (_required_snr_fn("barton", SWERLINGS), args),
-                (_required_snr_fn("shnidman", SWERLINGS), sub(shn)), (_required_snr_fn("albersheim", (0,)), sub(alb))]
-        (c_ex, ops_ex), (c_ba, ops_ba), (c_sh, ops_sh), (c_al, ops_al) = compile_all(
+                (_required_snr_fn("shnidman", SWERLINGS), sub(shn)), (_required_snr_fn("albersheim", (0,)), sub(alb)),
+                (_required_snr_fn("chebyshev", SWERLINGS), args)]
+        (c_ex, ops_ex), (c_ba, ops_ba), (c_sh, ops_sh), (c_al, ops_al), (c_ch, ops_ch) = compile_all(
             jobs, quick, alongside=lambda: reference.append(_grid_reference(points, stored)))
         ref = reference[0]
         m = len(pd)
@@ -211,6 +213,8 @@ def detectability(quick: bool) -> Family:
         t_ba = time_per_eval(c_ba, *args, batch=5 * m, repeats=repeats)
         shnid = np.asarray(c_sh(*sub(shn)))
         t_sh = time_per_eval(c_sh, *sub(shn), batch=shnid.size, repeats=repeats)
+        cheb = np.asarray(c_ch(*args))
+        t_ch = time_per_eval(c_ch, *args, batch=5 * m, repeats=repeats)
         albers = np.asarray(c_al(*sub(alb)))
         t_al = time_per_eval(c_al, *sub(alb), batch=albers.size, repeats=repeats)
         if quick:
@@ -237,11 +241,15 @@ def detectability(quick: bool) -> Family:
         Choice("barton", t_ba, ops_ba, worst(barton, exact), worst(barton, ref),
                "Barton 2005 universal equations (diffsense.detection.barton), the whole grid; per Swerling case "
                "vs reference (dB): " + _per_case(barton, ref, SWERLINGS)),
+        Choice("chebyshev", t_ch, ops_ch, worst(cheb, exact), worst(cheb, ref),
+               "Chebyshev interpolant of the exact values in (ln N, ln(ln Pfa/ln Pd − 1), ln(−ln Pfa)) "
+               "(diffsense.detection.chebyshev_snr), the whole grid; per Swerling case vs reference (dB): "
+               + _per_case(cheb, ref, SWERLINGS)),
         Choice("given", 0.0, 0, math.nan, math.nan,
                "the spec writes the per-pulse requirement (parameter detectability_db): no model and no cost; "
                "its error is the user's"),
     ]
-    covers = {"book": True, "barton": True, "shnidman": bool(shn.all()), "albersheim": False}
+    covers = {"book": True, "barton": True, "chebyshev": True, "shnidman": bool(shn.all()), "albersheim": False}
     fast = _fastest(rows, "exact", {k: v for k, v in covers.items() if v}, DB_BOUND)
     bound = (f"{DB_BOUND} dB against the reference over the whole grid; the option values that take the same "
              "parameters as exact (" + ", ".join(SAME_PARAMETER_OPTIONS) + ") are the candidates (float32 is a "

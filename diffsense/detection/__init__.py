@@ -29,6 +29,7 @@ from diffsense.detection.cfar_ordered import (
     os_cfar_pfa,
     os_cfar_required_snr_db,
 )
+from diffsense.detection.chebyshev_snr import chebyshev_snr_db
 from diffsense.detection.core import pd_given_threshold
 from diffsense.detection.cumulative import closing_target_ranges_m, cumulative_pd, cumulative_pd_closing
 from diffsense.detection.mti import (
@@ -86,6 +87,7 @@ __all__ = [
     "required_snr_db",
     "albersheim_snr_db",
     "shnidman_snr_db",
+    "chebyshev_snr_db",
     "book_integration_gain_db",
     "book_pulses_for_integration_gain",
     "BOOK_SDLA_EXTRA_PULSES",

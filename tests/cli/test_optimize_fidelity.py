@@ -43,8 +43,25 @@ def test_optimize_re_evaluates_a_fast_answer_with_the_exact_models(shnidman_is_f
     assert "re-evaluated with the exact models" in " ".join(out.split())
 
 
-def test_fast_without_an_atlas_approved_choice_says_the_exact_models_were_used(run_cli, tmp_path):
-    assert fid.FAST_OPTIONS.get("radar", {}) == {}  # the atlas admits no radar model choice at 0.01 dB
+def test_fast_takes_the_chebyshev_detectability_and_its_answer_holds_exactly(run_cli, tmp_path):
+    """The atlas's fast choice for the radar: the re-evaluation with the exact detectability moves
+    each detection margin by at most the interpolant's stated error (the beam not at all)."""
+    from diffsense.detection.chebyshev_snr import ERROR_BOUND_DB
+
+    assert fid.FAST_OPTIONS["radar"]["detectability"][0] == "chebyshev"
+    spec = tmp_path / "nav_fast.toml"
+    spec.write_text(NAV.read_text().replace('detectability = "exact"\n', 'fidelity = "fast"\n'))
+    code, out, err = run_cli("optimize", spec, "--starts", 2, "--json", tmp_path / "o.json")
+    assert code == 0, err
+    check = json.loads((tmp_path / "o.json").read_text())["exact_check"]
+    assert check["switched"] == {"detectability": "chebyshev"} and check["met"]
+    margins = [r for r in check["requirements"] if r["unit"] == "dB"]
+    assert len(margins) == 2 and all(0.0 < abs(r["difference"]) <= ERROR_BOUND_DB for r in margins)
+    assert check["requirements"][2]["difference"] == 0.0  # the beamwidth
+
+
+def test_fast_without_an_atlas_approved_choice_says_the_exact_models_were_used(run_cli, tmp_path, monkeypatch):
+    monkeypatch.setattr(fid, "FAST_OPTIONS", {})
     spec = tmp_path / "nav_fast.toml"
     spec.write_text(NAV.read_text().replace('detectability = "exact"\n', 'fidelity = "fast"\n'))
     code, out, err = run_cli("optimize", spec, "--starts", 1, "--json", tmp_path / "o.json")

@@ -63,3 +63,13 @@ def test_every_fast_choice_takes_the_parameters_of_the_default():
             except Exception:  # a kind that needs a part: the parts of its shipped designs
                 continue
             assert set(chain_for(fast).parameters(fast)) == params, (sensor, option, value)
+
+
+def test_a_fast_choice_the_chain_refuses_beside_the_other_options_is_not_taken():
+    """M-of-N integration has its own exact law: the Chebyshev detectability (the atlas's fast
+    choice) is refused beside it, so a fast spec keeps the exact detectability there."""
+    assert fid.FAST_OPTIONS["radar"]["detectability"][0] == "chebyshev"
+    options, switched = fid.fast_options("radar", {"integration": "binary"})
+    assert switched == {} and "detectability" not in options
+    options, switched = fid.fast_options("radar", {"integration": "noncoherent"})
+    assert switched == {"detectability": "chebyshev"} and options["detectability"] == "chebyshev"

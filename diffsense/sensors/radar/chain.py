@@ -125,11 +125,6 @@ class RadarChain(Chain):
                 raise DomainError(
                     f"radar scene: integration='binary' is the exact M-of-N law of pd and pfa; detectability="
                     f"'{option(scene, 'detectability')}' is another detection model (use detectability='exact')")
-            if scene.option("cfar_model", "given") != "given":
-                raise DomainError(
-                    f"radar scene: cfar_model='{scene.option('cfar_model', 'given')}' sets a threshold on one "
-                    "integrated sample; M-of-N integration thresholds every pulse at the per-pulse false-alarm "
-                    "probability (use cfar_model='given' with the loss at that level)")
         for reason in loss_model_refusals(scene, option):
             raise DomainError(f"radar scene: {reason}")
         surface = [part for part in SURFACE_PARTS if scene.has(part)]

@@ -90,8 +90,20 @@ def _beam_shape(dims: int) -> Choice:
                   "`diffsense.detection.beam_shape_loss_db`)")
 
 
+def _binary_integration(name, option, scene):
+    """The refusal of a modelled CFAR loss beside M-of-N integration, or None."""
+    if option(scene, "integration") == "binary":
+        return (f"cfar_model='{name}' sets a threshold on one integrated sample; M-of-N integration thresholds "
+                "every pulse at the per-pulse false-alarm probability (use cfar_model='given' with the loss at "
+                "that level)")
+    return None
+
+
 def _needs_detection_model(name):
     def refusal(scene, option):
+        binary = _binary_integration(name, option, scene)
+        if binary:
+            return binary
         if option(scene, "detectability") == "given":
             return (f"cfar_model='{name}' computes the CFAR loss for the scene's pd and pfa; "
                     "detectability='given' has neither (use detectability='exact' or cfar_model='given')")
@@ -101,7 +113,7 @@ def _needs_detection_model(name):
 
 def _single_sample_detector(name):
     def refusal(scene, option):
-        if option(scene, "integration") != "coherent":
+        if option(scene, "integration") == "noncoherent":
             return (f"cfar_model='{name}' is exact for one sample per cell; noncoherent integration puts N "
                     f"pulses in each cell (use integration='coherent' or cfar_model='cell_averaging')")
         return _needs_detection_model(name)(scene, option)

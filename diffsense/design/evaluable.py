@@ -54,10 +54,15 @@ def _design_points(spec: Spec) -> List[Point]:
                 continue
             values = dict(initial)
             values.update({n: getattr(spec.variables[n], end) for n, end in corner.items()})
-            where = ", ".join(f"variables.{n} = {end} ({number_text(values[n])} {spec.variables[n].unit})"
+            where = ", ".join(f"variables.{n} = {end} ({_with_unit(values[n], spec.variables[n].unit)})"
                               for n, end in corner.items())
             points.append((f"the corner {where}{chosen}", {**values, **setting}))
     return points
+
+
+def _with_unit(value: float, unit: str) -> str:
+    """``value`` and its unit, the unit left out for a pure number (unit "1")."""
+    return number_text(value) if unit in ("", "1") else f"{number_text(value)} {unit}"
 
 
 def _choice_key(spec: Spec, choice) -> str:
@@ -147,9 +152,10 @@ def _diagnose(spec: Spec, case: str, scene, params: Dict[str, float], where: str
         names = [n for n in dict.fromkeys(re.findall(r"[a-z][a-z0-9_]*", text.split(";")[0])) if n in params]
         keys = [_key_of(spec, case, n) for n in names]
         shown = ", ".join(f"{_key_of(spec, case, n)} = {number_text(params[n])}" for n in names)
+        # the reason first: a long corner description is what the one-line limit cuts
         raise SpecError(spec.path, keys[0].split(" ")[0] if keys else key,
-                        f"values accepted one by one are rejected together {at}: {text}"
-                        + (f" (set by {shown})" if shown else "")) from None
+                        f"values accepted one by one are rejected together: {text}"
+                        + (f" (set by {shown})" if shown else "") + f"; {at}") from None
     extreme = [n for n, v in params.items() if v != 0 and not 1e-150 < abs(v) < 1e150]
     named = [_key_of(spec, case, n) for n in extreme]
     shown = ", ".join(f"{k} = {number_text(params[n])}" for k, n in zip(named, extreme))

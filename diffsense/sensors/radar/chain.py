@@ -69,6 +69,7 @@ from diffsense.numerics.rootfind import decreasing_root_log
 from diffsense.physics.antennas import wavelength_m
 from diffsense.sensors.chain import Chain, Evaluation, needs
 from diffsense.sensors.radar.detectability import (
+    check_binary_counts,
     detection_margin_db,
     pd_at,
     pd_outputs,
@@ -150,6 +151,7 @@ class RadarChain(Chain):
         needs are not traced (see :class:`diffsense.sensors.chain.Chain`)."""
         check_inside_horizon(scene, p)
         check_sea_clutter_domain(scene, p)
+        check_binary_counts(scene, p)
         r0 = p["range_m"]
         lam = wavelength_m(p["freq_hz"])
         ant = antenna(scene, p, lam)

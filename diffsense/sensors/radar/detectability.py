@@ -49,6 +49,8 @@ from typing import NamedTuple, Optional
 import jax.numpy as jnp
 
 from diffsense import detection as _det
+from diffsense.errors import DomainError
+from diffsense.numerics.checks import is_concrete
 from diffsense.numerics.db import db10, power_sum_db
 from diffsense.physics.propagation.refraction import radar_horizon_m
 from diffsense.sensors.chain import needs
@@ -56,7 +58,7 @@ from diffsense.sensors.radar import equation as eq
 from diffsense.sensors.radar.integer_counts import between_integer_counts
 from diffsense.sensors.radar.structure import option
 
-__all__ = ["USES_REQUIRED_SNR", "Requirement", "required_snr", "detection_margin_db", "requirement_outputs",
+__all__ = ["check_binary_counts", "USES_REQUIRED_SNR", "Requirement", "required_snr", "detection_margin_db", "requirement_outputs",
            "pd_at", "pd_outputs", "range_bracket"]
 
 #: outputs that depend on the required per-pulse SNR (an exact detectability solve)
@@ -111,6 +113,20 @@ def required_snr(scene, p, wanted=None) -> Requirement:
     reqn = _det.required_snr_db(p["pd"], p["pfa"], n, swerling, method=method) if need_req or need_gain else None
     req1 = single() if need_gain else None
     return Requirement(reqn, req1 - reqn if need_gain else None, req1)
+
+
+def check_binary_counts(scene, p):
+    """With M-of-N integration, concrete ``binary_m`` and ``n_pulses`` must satisfy M ≤ N
+    (DomainError naming both): at least M of N pulses cannot cross when fewer than M are sent."""
+    if option(scene, "integration") != "binary":
+        return
+    m, n = p["binary_m"], p["n_pulses"]
+    if not (is_concrete(m) and is_concrete(n)):
+        return
+    m_max, n_min = float(jnp.max(jnp.asarray(m))), float(jnp.min(jnp.asarray(n)))
+    if m_max > n_min:
+        raise DomainError(f"radar chain, integration='binary': binary_m = {m_max:g} exceeds n_pulses = {n_min:g}; "
+                          "M-of-N detection needs M <= N (at least M of the N pulses must cross)")
 
 
 def _at_binary_counts(p, value_at):

@@ -19,7 +19,8 @@ import pytest
 import diffsense  # noqa: F401  (float64)
 from diffsense.detection import pd_binary, required_snr_binary_db, required_snr_db
 from diffsense.errors import DomainError
-from diffsense.scene import Scene, complete_parameters, evaluator, parameter_table
+from diffsense.scene import Scene, complete_parameters, evaluate, evaluator, parameter_table
+from tests.reference.mp_binomial import level_mp, tail_mp
 
 mp.mp.dps = 30
 COMMON = dict(range_m=30e3, peak_power_w=2e5, pulse_width_s=1e-6, freq_hz=3e9, bandwidth_hz=1.2e6, noise_figure_db=3.0,
@@ -27,27 +28,13 @@ COMMON = dict(range_m=30e3, peak_power_w=2e5, pulse_width_s=1e-6, freq_hz=3e9, b
 OPTIONS = {"antenna": "specified", "matched_filter": "matched", "integration": "binary"}
 
 
-def _mp_tail(p, n, m):
-    return mp.betainc(m, n - m + 1, 0, p, regularized=True)
-
-
-def _mp_level(target, n, m):
-    """p with B(p) = target, by bisection in log p (B increases in p)."""
-    lo, hi = mp.mpf("1e-40"), mp.mpf(1)
-    target = mp.mpf(target)
-    for _ in range(300):
-        mid = mp.sqrt(lo * hi)
-        lo, hi = (mid, hi) if _mp_tail(mid, n, m) < target else (lo, mid)
-    return mp.sqrt(lo * hi)
-
-
 def _mp_required_swerling2_db(pd, pfa, n, m):
-    return float(10 * mp.log10(mp.log(_mp_level(pfa, n, m)) / mp.log(_mp_level(pd, n, m)) - 1))
+    return float(10 * mp.log10(mp.log(level_mp(pfa, n, m)) / mp.log(level_mp(pd, n, m)) - 1))
 
 
 def _mp_pd_swerling2(snr_db, pfa, n, m):
     s = mp.mpf(10) ** (mp.mpf(snr_db) / 10)
-    return float(_mp_tail(_mp_level(pfa, n, m) ** (1 / (1 + s)), n, m))
+    return float(tail_mp(level_mp(pfa, n, m) ** (1 / (1 + s)), n, m))
 
 
 def _evaluate(swerling, **values):
@@ -92,7 +79,10 @@ def test_relaxed_counts_interpolate_between_integers_with_finite_derivatives():
 
 
 def test_more_than_n_or_over_100_pulses_is_not_a_number():
-    assert math.isnan(float(_evaluate(0, n_pulses=4.0, binary_m=5.0)["required_snr_db"]))
+    assert math.isnan(float(_evaluate(0, n_pulses=4.0, binary_m=5.0)["required_snr_db"]))  # traced: NaN
+    scene = Scene("radar", [], dict(OPTIONS, swerling=0))
+    with pytest.raises(DomainError, match=r"binary_m = 5 exceeds n_pulses = 4"):  # concrete: named
+        evaluate(scene, dict(COMMON, n_pulses=4.0, binary_m=5.0))
     assert math.isnan(float(_evaluate(0, n_pulses=101.0, binary_m=5.0)["required_snr_db"]))
 
 

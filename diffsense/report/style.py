@@ -370,6 +370,9 @@ def _fit(fig) -> None:
                 renderer = _renderer(fig)
         if not changed:
             break
+    # the last pass laid the figure out as it stands: keep that layout for the drawing that
+    # saves it instead of laying it out once more (a third to a half of a draw's time)
+    fig.set_layout_engine("none")
 
 
 def save(fig, path) -> Path:

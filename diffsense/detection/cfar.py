@@ -86,6 +86,9 @@ _QUAD_NODES = 64
 _FD_REL_STEP = 1e-5
 _MAX_NEWTON = 100
 _ROOT_ITERATIONS = 40
+#: the Newton step (dB) below which the required SNR has settled (quadratic convergence: its error
+#: is then far below 1e-11 dB)
+_SNR_STEP_DB = 1e-11
 _SNR_BRACKET_DB = (-40.0, 100.0)
 
 
@@ -391,22 +394,14 @@ def _h(snr_db, log_alpha, m, n, model):
 
 
 def _solve_snr_db(target, log_alpha, m, n, model):
+    """The SNR (dB) with log(-log Pd) = ``target``: safeguarded Newton iteration
+    (:func:`~diffsense.numerics.bracketed_newton.newton_decreasing`; an element whose residual
+    is exactly zero stays there) until a step is at most 1e-11 dB."""
     lo = jnp.full_like(target, _SNR_BRACKET_DB[0])
     hi = jnp.full_like(target, _SNR_BRACKET_DB[1])
     x0 = jnp.full_like(target, 10.0)
-
-    def body(_, state):
-        x, lo, hi = state
-        h, dh = jax.jvp(lambda x_: _h(x_, log_alpha, m, n, model), (x,), (jnp.ones_like(x),))
-        g = h - target  # decreasing in x
-        lo = jnp.where(g > 0.0, x, lo)
-        hi = jnp.where(g <= 0.0, x, hi)
-        x_newton = x - g / dh
-        ok = jnp.isfinite(x_newton) & (x_newton > lo) & (x_newton < hi)
-        x = jnp.where(ok, x_newton, 0.5 * (lo + hi))
-        return x, lo, hi
-
-    x, _, _ = jax.lax.fori_loop(0, _ROOT_ITERATIONS, body, (x0, lo, hi))
+    x, _, _ = newton_decreasing(forward_slope(lambda x_: _h(x_, log_alpha, m, n, model) - target), x0, lo, hi,
+                                lambda x_: _SNR_STEP_DB, _ROOT_ITERATIONS)
     return x
 
 

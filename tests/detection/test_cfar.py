@@ -200,6 +200,27 @@ def test_required_snr_swerling1_single_pulse_closed_form():
         np.testing.assert_allclose(got, ref, atol=1e-8)
 
 
+def _sw1_required_mp_db(pd, pfa, m):
+    """The Swerling 1, one-pulse closed form at 30 digits (``pd^(-1/M) - 1`` cancels in float64)."""
+    with mpmath.workdps(30):
+        pd, pfa = mpmath.mpf(pd), mpmath.mpf(pfa)
+        alpha = pfa ** (-1 / mpmath.mpf(m)) - 1
+        return float(10 * mpmath.log10(alpha / mpmath.expm1(-mpmath.log(pd) / m) - 1))
+
+
+def test_required_snr_settles_on_its_root_to_1e_10_db():
+    """Once the Newton residual is exactly zero the iterate stays (a bisection step from there used
+    to wander off: 3.9e-9 dB at Pd 0.99, Pfa 1e-12, M 8); over Pd 0.5-0.999, Pfa 1e-3-1e-12, M 8-64."""
+    pds = [0.5, 0.9, 0.99, 0.999]
+    pfas = [1e-3, 1e-6, 1e-9, 1e-12]
+    pd = np.repeat(pds, len(pfas))
+    pfa = np.tile(pfas, len(pds))
+    for m in (8, 16, 32, 64):
+        got = np.asarray(cfar_required_snr_db(pd, pfa, float(m), 1, swerling=1))
+        ref = [_sw1_required_mp_db(a, b, m) for a, b in zip(pd, pfa)]
+        np.testing.assert_allclose(got, ref, rtol=0, atol=1e-10)
+
+
 def test_required_snr_gradient_matches_closed_form_derivative():
     g = jax.grad(lambda pd, pfa, m: cfar_required_snr_db(pd, pfa, m, 1.0, swerling=1), argnums=(0, 1, 2))(0.9, 1e-6, 16.0)
     eps = 1e-7

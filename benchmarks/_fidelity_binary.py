@@ -188,8 +188,7 @@ def binary_integration(quick: bool) -> Family:
         exact="exact", default="exact",
         why_default="the only model the package offers for M-of-N integration; exact to 1e-9 dB",
         choices=rows, fast=None,
-        fast_bound=f"{DB_BOUND} dB; the per-pulse equations are not options (and miss it: see their errors)",
-        model_option=False)
+        fast_bound=f"none: {DB_BOUND} dB; the per-pulse equations are not options (and miss it: see their errors)")
 
 
 def run(quick: bool) -> list:

@@ -17,7 +17,12 @@ Option sets (``compiler_options`` of ``jax.jit``):
 * no expensive passes — optimized plus ``xla_llvm_disable_expensive_passes``;
 * effort −1 — optimized plus ``exec_time_optimization_effort=-1``.
 
+``--sets`` picks option sets by label (comma separated); ``--rounds R`` compiles every program
+with every set R times, the sets interleaved within each round (the machine's speed drifts, so a
+comparison is made side by side).
+
 Run: python benchmarks/bench_xla_options.py [--quick] [--spec designs/ore_pass.toml] [--programs lanes,check,search,dense]
+     [--sets "optimized,no expensive passes"] [--rounds 3]
 ``--quick``: the lidar spec's ``check`` program with the optimized and default sets only.
 """
 
@@ -96,17 +101,23 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help=_support.QUICK_HELP)
     parser.add_argument("--spec", default=None, help="spec file (default designs/ore_pass.toml)")
     parser.add_argument("--programs", default="lanes,check,search,dense")
+    parser.add_argument("--sets", default=None, help="option sets by label, comma separated (default: all)")
+    parser.add_argument("--rounds", type=int, default=1, help="compilations of each program with each set")
     args = parser.parse_args()
     spec = args.spec or str(_support.ROOT / "designs" / ("lidar_rangefinder.toml" if args.quick else "ore_pass.toml"))
     names = ["check"] if args.quick else args.programs.split(",")
-    sets = {k: OPTION_SETS[k] for k in (("optimized", "XLA default") if args.quick else OPTION_SETS)}
+    labels = ("optimized", "XLA default") if args.quick else (args.sets.split(",") if args.sets else OPTION_SETS)
+    unknown = [k for k in labels if k not in OPTION_SETS]
+    if unknown:
+        parser.error(f"--sets: unknown option set {unknown[0]!r}; choose from {', '.join(OPTION_SETS)}")
+    sets = {k: OPTION_SETS[k] for k in labels}
     jax.config.update("jax_compilation_cache_dir", None)
     model = DesignModel(load_spec(spec))
     print(f"# XLA:CPU options, {spec.split('/')[-1]}: compile s / run ms of one call")
     print(f"{'program':8s} {'options':20s} {'compile s':>10s} {'run ms':>10s}")
     for name, (program, call_args) in program_cases(model, names).items():
         program.pool = None
-        for label, options in sets.items():
+        for label, options in [(k, v) for _ in range(max(1, args.rounds)) for k, v in sets.items()]:
             try:
                 compile_s, run_s = measure(program, call_args, options)
             except Exception as exc:  # noqa: BLE001 - an option this XLA lacks: say so, go on

@@ -32,7 +32,7 @@ def test_the_family_is_complete(family):
     assert family.key == "binary" and family.exact == "exact" and family.default == "exact"
     assert [c.name for c in family.choices] == ["exact", "per-pulse Shnidman", "per-pulse Albersheim"]
     assert all(c.seconds_per_eval > 0 and c.hlo_ops > 0 for c in family.choices)
-    assert family.fast is None and not family.model_option  # the per-pulse equations are not options
+    assert family.fast is None  # the per-pulse equations are not options
 
 
 def test_exact_is_exact_and_the_per_pulse_equations_are_not(family):

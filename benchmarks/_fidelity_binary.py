@@ -22,7 +22,8 @@ function ``B(p) = I_p(M, N - M + 1)`` (``tests/reference/mp_binomial.py``), then
 
 Times: each choice jitted over the grid, one row per Swerling case (the case is static in the
 package's functions, the counts are arrays), the grid's points repeated to 512 columns per case
-(``quick``: 64), warm median per point; HLO operations per case (a program holds one copy per case).
+(``quick``: 64), warm median per point; HLO operations per case (a program holds one copy per case); compiled
+with the package's "optimized" XLA options (``quick``: "fast", so its times are indicative only).
 
 Run alone: python benchmarks/_fidelity_binary.py [--quick] (needs mpmath, in the ``bench`` extras).
 """
@@ -37,11 +38,10 @@ import _support
 _support.require("_fidelity_binary.py", "mpmath")
 
 import diffsense  # noqa: E402,F401  (float64)
-import jax  # noqa: E402
 import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
 
-from _fidelity_support import _OP, Choice, Family, main_alone, time_per_eval, worst  # noqa: E402
+from _fidelity_support import Choice, Family, main_alone, measure_tiled, worst  # noqa: E402
 
 #: the per-pulse Swerling case of each overall case with independent pulses
 PER_PULSE = {0: 0, 2: 1, 4: 3}
@@ -53,6 +53,9 @@ FULL_COUNTS = NEAR_OPTIMUM + ((10, 2), (10, 10))
 QUICK_PDS, QUICK_PFAS, QUICK_COUNTS, QUICK_CASES = (0.5, 0.9), (1e-6,), ((24, 12),), (0, 2)
 #: columns of the timing batch per Swerling case: the grid's points repeated
 TIMING_COLUMNS, QUICK_TIMING_COLUMNS = 512, 64
+#: XLA presets (diffsense.optimize.compile): the package's, and optimisation level 0 for ``quick``
+#: (faster to compile, slower to run: quick times are indicative only)
+PRESET, QUICK_PRESET = "optimized", "fast"
 REFERENCE_DPS = 30
 DB_BOUND = 0.01
 
@@ -128,17 +131,6 @@ def _albersheim(p_d, p_f, sw):
     return (6.2 + 4.54 / math.sqrt(1.44)) * jnp.log10(a + 0.12 * a * b + 1.7 * b)
 
 
-def _measure(fn, grid, repeats, columns):
-    """(values on ``grid``, seconds per point on the grid tiled to ``columns`` per case, HLO
-    operations per case): one compilation, for the tiled grid."""
-    width = grid[0].shape[1]
-    tiled = tuple(jnp.tile(a, (1, -(-columns // width))) for a in grid)
-    compiled = jax.jit(fn).lower(*tiled).compile()
-    out = np.asarray(compiled(*tiled))[:, :width]
-    seconds = time_per_eval(compiled, *tiled, batch=tiled[0].size, repeats=repeats)
-    return out, seconds, len(_OP.findall(compiled.as_text())) // grid[0].shape[0]
-
-
 def binary_integration(quick: bool) -> Family:
     """The family (module docstring)."""
     repeats = 3 if quick else 7
@@ -151,9 +143,10 @@ def binary_integration(quick: bool) -> Family:
     ref = np.array([r[0] for r in ref_rows]).reshape(grid[0].shape)
     total = ref.size
 
-    exact, t_ex, ops_ex = _measure(_exact_fn(cases), grid, repeats, columns)
-    shn, t_sh, ops_sh = _measure(_per_pulse_fn(_shnidman, cases), grid, repeats, columns)
-    alb, t_al, ops_al = _measure(_per_pulse_fn(_albersheim, (0,)), tuple(a[:1] for a in grid), repeats, columns)
+    (exact, t_ex, ops_ex), (shn, t_sh, ops_sh), (alb, t_al, ops_al) = measure_tiled(
+        [(_exact_fn(cases), grid), (_per_pulse_fn(_shnidman, cases), grid),
+         (_per_pulse_fn(_albersheim, (0,)), tuple(a[:1] for a in grid))],
+        repeats, columns, QUICK_PRESET if quick else PRESET)
     p_f = np.array([r[2] for r in ref_rows])
     outside = int(np.sum(p_f > 1e-3))
     near = np.array([p[:2] in NEAR_OPTIMUM for p in row])  # columns at (N, M) near the optimum M

@@ -25,7 +25,8 @@ methods from it); that curve is not reproduced here, so the approximation has no
 
 Times: each choice jitted over the grid, one row per cell count (the counts are static in the
 package's functions), the grid's points repeated to 512 columns per row (``quick``: 64), warm
-median per point; HLO operations per row.
+median per point; HLO operations per row; compiled with the package's "optimized" XLA options
+(``quick``: "fast", so its times are indicative only).
 
 Run alone: python benchmarks/_fidelity_cfar.py [--quick] (needs mpmath, in the ``bench`` extras).
 """
@@ -40,16 +41,18 @@ import _support
 _support.require("_fidelity_cfar.py", "mpmath")
 
 import diffsense  # noqa: E402,F401  (float64)
-import jax  # noqa: E402
 import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
 
-from _fidelity_support import _OP, Choice, Family, main_alone, time_per_eval, worst  # noqa: E402
+from _fidelity_support import Choice, Family, main_alone, measure_tiled, worst  # noqa: E402
 
 FULL_CELLS, QUICK_CELLS = (8, 16, 32, 64), (16,)
 FULL_PDS, QUICK_PDS = (0.5, 0.9, 0.99), (0.5, 0.9)
 FULL_PFAS, QUICK_PFAS = (1e-3, 1e-6, 1e-9, 1e-12), (1e-6,)
 TIMING_COLUMNS, QUICK_TIMING_COLUMNS = 512, 64
+#: XLA presets (diffsense.optimize.compile): the package's, and optimisation level 0 for ``quick``
+#: (faster to compile, slower to run: quick times are indicative only)
+PRESET, QUICK_PRESET = "optimized", "fast"
 REFERENCE_DPS = 30
 #: the OS rank as a fraction of the cells (Rohling 1983: about 3/4; the radar's default)
 RANK_FRACTION = 0.75
@@ -109,17 +112,6 @@ def _loss_fn(processor: str, cells):
     return f
 
 
-def _measure(fn, grid, repeats, columns):
-    """(values on ``grid``, seconds per point on the grid tiled to ``columns`` per row, HLO
-    operations per row): one compilation, for the tiled grid."""
-    width = grid[0].shape[1]
-    tiled = tuple(jnp.tile(a, (1, -(-columns // width))) for a in grid)
-    compiled = jax.jit(fn).lower(*tiled).compile()
-    out = np.asarray(compiled(*tiled))[:, :width]
-    seconds = time_per_eval(compiled, *tiled, batch=tiled[0].size, repeats=repeats)
-    return out, seconds, len(_OP.findall(compiled.as_text())) // grid[0].shape[0]
-
-
 def cfar_loss(quick: bool) -> Family:
     """The family (module docstring)."""
     repeats = 3 if quick else 7
@@ -128,8 +120,9 @@ def cfar_loss(quick: bool) -> Family:
     row = [(pd, pfa) for pfa in pfas for pd in pds]
     grid = tuple(jnp.asarray(np.array([[p[k] for p in row]] * len(cells), dtype=float)) for k in (0, 1))
     rows = []
-    for processor in PROCESSORS:
-        out, seconds, ops = _measure(_loss_fn(processor, cells), grid, repeats, columns)
+    measured = measure_tiled([(_loss_fn(processor, cells), grid) for processor in PROCESSORS], repeats, columns,
+                             QUICK_PRESET if quick else PRESET)
+    for processor, (out, seconds, ops) in zip(PROCESSORS, measured):
         ref = np.array([[loss_mp(processor, pd, pfa, n) for pd, pfa in row] for n in cells])
         per_n = ", ".join(f"n = {n}: {worst(out[i], ref[i]):.2g}" for i, n in enumerate(cells))
         span = f"{np.min(ref):.3g}-{np.max(ref):.3g} dB"

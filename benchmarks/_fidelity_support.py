@@ -87,6 +87,29 @@ def hlo_ops(fn: Callable, *args) -> int:
     return len(_OP.findall(text))
 
 
+def measure_tiled(jobs, repeats: int, columns: int, preset: str = "optimized"):
+    """Per ``(fn, grid)`` of ``jobs`` (``grid``: a tuple of (rows, width) arrays, one row per static
+    case): ``(values on the grid, seconds per point, HLO operations per row)``. Each grid is tiled
+    to ``columns`` per row for the timing; the programs are compiled two at a time in background
+    threads with the XLA options of ``preset`` (:mod:`diffsense.optimize.compile`), then timed one
+    after another."""
+    import concurrent.futures
+
+    from diffsense.optimize.compile import jit_with_options
+
+    tiled = [tuple(np.tile(np.asarray(a), (1, -(-columns // np.shape(a)[1]))) for a in grid) for _, grid in jobs]
+    lowered = [jit_with_options(fn, preset).lower(*args) for (fn, _), args in zip(jobs, tiled)]
+    with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:
+        compiled = list(pool.map(lambda low: low.compile(), lowered))
+    out = []
+    for (_, grid), args, program in zip(jobs, tiled, compiled):
+        width, rows = np.shape(grid[0])[1], np.shape(grid[0])[0]
+        values = np.asarray(program(*args))[:, :width]
+        seconds = time_per_eval(program, *args, batch=args[0].size, repeats=repeats)
+        out.append((values, seconds, len(_OP.findall(program.as_text())) // rows))
+    return out
+
+
 def worst(a, b, relative: bool = False) -> float:
     """max |a − b| (or max |a − b| / |b|) over finite pairs; inf when ``a`` has a non-finite value
     where ``b`` is finite."""
@@ -142,4 +165,4 @@ def main_alone(run: Callable, doc: str, argv=None) -> None:
     print(f"\n({len(families)} families in {time.perf_counter() - t:.1f} s)")
 
 
-__all__ = ["Choice", "Family", "time_per_eval", "hlo_ops", "worst", "pareto", "print_family", "main_alone"]
+__all__ = ["Choice", "Family", "time_per_eval", "measure_tiled", "hlo_ops", "worst", "pareto", "print_family", "main_alone"]

@@ -44,7 +44,7 @@ from diffsense.sensors.sonar import SonarChain
 from diffsense.sensors.structure import Scene
 from diffsense.sensors.ultrasonic import UltrasonicChain
 
-__all__ = ["Scene", "CHAINS", "sensor_kinds", "chain_for", "complete_parameters", "evaluate", "evaluator", "describe", "describe_kind",
+__all__ = ["Scene", "CHAINS", "sensor_kinds", "chain_for", "complete_parameters", "check_values", "evaluate", "evaluator", "describe", "describe_kind",
            "parameter_table", "output_table", "number_text", "domain_text", "describe_command",
            "unknown_name_hint"]
 
@@ -122,6 +122,12 @@ def evaluate(scene: Scene, params: Optional[Mapping[str, object]] = None, **kwar
     chain = chain_for(scene)
     p = complete_parameters(scene, merged)
     return chain.compute(scene, p)
+
+
+def check_values(scene: Scene, params: Mapping[str, float]) -> None:
+    """Raise :class:`~diffsense.errors.DomainError` when plain-number ``params`` hold values the
+    chain of ``scene`` rejects together and can tell without evaluating (no JAX program)."""
+    chain_for(scene).check_values(scene, complete_parameters(scene, dict(params)))
 
 
 @functools.lru_cache(maxsize=256)

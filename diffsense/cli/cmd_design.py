@@ -26,7 +26,7 @@ def load_model(design_file: Path, reporter: Reporter, *, starts: Optional[int] =
     ``starts`` the optimiser's programs begin compiling first (in background threads, while the
     others are traced; the solver's program, whose compilation is the longest, before the small
     check program); ``tangents``: the program of derivatives too (a report)."""
-    from diffsense.design.evaluable import check_evaluable
+    from diffsense.design.evaluable import check_evaluable, check_joint_values
     from diffsense.design.model import DesignModel
     from diffsense.design.optimizer import prepare
     from diffsense.design.spec import load_spec
@@ -36,6 +36,7 @@ def load_model(design_file: Path, reporter: Reporter, *, starts: Optional[int] =
     try:
         with reporter.step(f"reading {clip(design_file)}"):
             spec = load_spec(design_file)
+            check_joint_values(spec)  # values the chain rejects together on plain numbers: before compiling
             if starts:
                 require_variables(spec)
                 if starts != DEFAULT_STARTS:

@@ -24,7 +24,7 @@ def trade(
     force: bool = FORCE,
 ):
     """Trace the Pareto front of the spec's [trade] objectives by epsilon-constraint continuation."""
-    from diffsense.design.evaluable import check_evaluable
+    from diffsense.design.evaluable import check_evaluable, check_joint_values
     from diffsense.design.model import DesignModel
     from diffsense.design.spec import load_spec
     from diffsense.design.spec.limits import MAX_TRADE_POINTS, check_trade_work, require_variables
@@ -45,6 +45,7 @@ def trade(
         with reporter.step(f"reading {clip(design_file)}"):
             spec = trade_spec(load_spec(design_file))
             require_variables(spec)
+            check_joint_values(spec)
             check_trade_work(spec.path, spec, points or spec.trade.points,
                              "--points" if points else "trade.points")
         with reporter.step("building the design model"):

@@ -22,7 +22,7 @@ import numpy as np
 from diffsense.design.spec.common import clean_message
 from diffsense.design.spec.types import Spec
 from diffsense.errors import DomainError, SpecError
-from diffsense.scene import evaluate, number_text
+from diffsense.scene import check_values, evaluate, number_text
 
 #: with more variables than this only the initial design and one-at-a-time extremes are checked
 MAX_CORNER_VARIABLES = 6
@@ -103,6 +103,21 @@ def _case_parameters(spec: Spec, case: str, values: Dict[str, float]) -> Dict[st
     return {name: values.get(name, spec.fixed[case].get(name, prm.default)) for name, prm in table.items()}
 
 
+def check_joint_values(spec: Spec) -> None:
+    """Raise :class:`SpecError` at the first design point of :func:`check_evaluable` (the initial
+    design and the box corners, every catalog combination) whose values a case's chain rejects
+    together by a check it makes on plain numbers (:meth:`Chain.check_values`, e.g. the radar's
+    M-of-N ``binary_m <= n_pulses``): before any program is compiled, so such a spec is refused
+    in a fraction of a second."""
+    for where, design in _design_points(spec):
+        for case, scene in spec.scenes.items():
+            params = _case_parameters(spec, case, design)
+            try:
+                check_values(scene, params)
+            except DomainError as exc:
+                _refuse_joint(spec, case, params, where, exc, "")
+
+
 def check_evaluable(model):
     """Raise :class:`SpecError` unless every output the spec uses, and the objective, is finite
     at the initial design and at the corners of the box of every catalog combination (see the
@@ -110,6 +125,7 @@ def check_evaluable(model):
     Returns ``(where, V, evaluations)``: the points' descriptions, input vectors and
     evaluations, for further checks of the same points."""
     spec = model.spec
+    check_joint_values(spec)
     points = _design_points(spec)
     used = {case: _case_outputs(spec, case) for case in spec.scenes}
     V = np.stack([_vector(model, values) for _, values in points])
@@ -141,6 +157,20 @@ def _vector(model, design: Dict[str, float]) -> np.ndarray:
     return v
 
 
+def _refuse_joint(spec: Spec, case: str, params: Dict[str, float], where: str, exc: DomainError, key: str):
+    """Raise the error for values ``params`` the chain rejected together (``exc``) at ``where``,
+    naming the keys that set the values the chain's message names (else ``key``)."""
+    at = f"at {where}" + (f" in case '{case}'" if len(spec.scenes) > 1 else "")
+    text = clean_message(exc)
+    names = [n for n in dict.fromkeys(re.findall(r"[a-z][a-z0-9_]*", text.split(";")[0])) if n in params]
+    keys = [_key_of(spec, case, n) for n in names]
+    shown = ", ".join(f"{_key_of(spec, case, n)} = {number_text(params[n])}" for n in names)
+    # the reason first: a long corner description is what the one-line limit cuts
+    raise SpecError(spec.path, keys[0].split(" ")[0] if keys else key,
+                    f"values accepted one by one are rejected together: {text}"
+                    + (f" (set by {shown})" if shown else "") + f"; {at}") from None
+
+
 def _diagnose(spec: Spec, case: str, scene, params: Dict[str, float], where: str, out: str, key: str,
               value: float) -> None:
     """Raise the error for a point where output ``out`` is ``value`` (not finite)."""
@@ -148,14 +178,7 @@ def _diagnose(spec: Spec, case: str, scene, params: Dict[str, float], where: str
     try:
         evaluate(scene, params)
     except DomainError as exc:
-        text = clean_message(exc)
-        names = [n for n in dict.fromkeys(re.findall(r"[a-z][a-z0-9_]*", text.split(";")[0])) if n in params]
-        keys = [_key_of(spec, case, n) for n in names]
-        shown = ", ".join(f"{_key_of(spec, case, n)} = {number_text(params[n])}" for n in names)
-        # the reason first: a long corner description is what the one-line limit cuts
-        raise SpecError(spec.path, keys[0].split(" ")[0] if keys else key,
-                        f"values accepted one by one are rejected together: {text}"
-                        + (f" (set by {shown})" if shown else "") + f"; {at}") from None
+        _refuse_joint(spec, case, params, where, exc, key)
     extreme = [n for n, v in params.items() if v != 0 and not 1e-150 < abs(v) < 1e150]
     named = [_key_of(spec, case, n) for n in extreme]
     shown = ", ".join(f"{k} = {number_text(params[n])}" for k, n in zip(named, extreme))

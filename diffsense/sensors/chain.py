@@ -187,6 +187,11 @@ class Chain:
                 wanted: Optional[FrozenSet[str]] = None) -> Evaluation:  # pragma: no cover - abstract
         raise NotImplementedError
 
+    def check_values(self, scene: Scene, p: Mapping[str, float]) -> None:
+        """Raise :class:`DomainError` for plain-number parameter values ``p`` that the chain
+        rejects together and can tell without being evaluated (NumPy only: a spec's corners are
+        checked this way before any program is compiled); none by default."""
+
     def coverage_chart_reason(self, scene: Scene) -> Optional[str]:
         """``None`` when a range-height coverage chart over the refracting 4/3 earth (Blake 1986)
         describes ``scene`` — a beam looking along the earth's surface through the atmosphere, whose

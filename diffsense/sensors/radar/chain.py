@@ -133,6 +133,9 @@ class RadarChain(Chain):
             raise DomainError(f"radar scene: the parts {surface} need a radar looking along the sea surface; "
                               "option geometry='shaft' says it looks down a shaft")
 
+    def check_values(self, scene, p):
+        check_binary_counts(scene, p)
+
     def coverage_chart_reason(self, scene):
         if looks_along_surface(scene):
             return None

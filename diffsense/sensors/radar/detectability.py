@@ -47,6 +47,7 @@ from __future__ import annotations
 from typing import NamedTuple, Optional
 
 import jax.numpy as jnp
+import numpy as np
 
 from diffsense import detection as _det
 from diffsense.errors import DomainError
@@ -123,7 +124,7 @@ def check_binary_counts(scene, p):
     m, n = p["binary_m"], p["n_pulses"]
     if not (is_concrete(m) and is_concrete(n)):
         return
-    m_max, n_min = float(jnp.max(jnp.asarray(m))), float(jnp.min(jnp.asarray(n)))
+    m_max, n_min = float(np.max(np.asarray(m))), float(np.min(np.asarray(n)))
     if m_max > n_min:
         raise DomainError(f"radar chain, integration='binary': binary_m = {m_max:g} exceeds n_pulses = {n_min:g}; "
                           "M-of-N detection needs M <= N (at least M of the N pulses must cross)")

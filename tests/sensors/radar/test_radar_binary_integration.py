@@ -94,3 +94,18 @@ def test_parameters_follow_the_option_and_refusals():
         parameter_table(Scene("radar", [], dict(OPTIONS, detectability="shnidman")))
     with pytest.raises(DomainError, match="cfar_model='given'"):
         parameter_table(Scene("radar", [], dict(OPTIONS, cfar_model="cell_averaging")))
+
+
+def test_a_spec_with_m_above_n_is_refused_before_any_program_is_traced(capsys):
+    """The M <= N check runs on the spec's plain numbers at load (Chain.check_values), so the
+    command line refuses the spec without tracing the check program it used to wait for."""
+    from diffsense.cli.app import main
+    from diffsense.optimize import programs
+    from helpers.paths import REPO
+
+    before = dict(programs.TRACES)
+    with pytest.raises(SystemExit) as info:
+        main(["--quiet", "evaluate", str(REPO / "tests" / "design" / "bad_specs" / "binary_m_above_n_pulses.toml")])
+    assert info.value.code == 2
+    assert "binary_m = 12 exceeds n_pulses = 8" in capsys.readouterr().err
+    assert programs.TRACES == before

@@ -108,7 +108,9 @@ def check_joint_values(spec: Spec) -> None:
     design and the box corners, every catalog combination) whose values a case's chain rejects
     together by a check it makes on plain numbers (:meth:`Chain.check_values`, e.g. the radar's
     M-of-N ``binary_m <= n_pulses``): before any program is compiled, so such a spec is refused
-    in a fraction of a second."""
+    in a fraction of a second. The command line runs it as it reads a spec; :func:`check_evaluable`
+    meets the same values through the chain's own check when it re-evaluates a point eagerly, with
+    the same message."""
     for where, design in _design_points(spec):
         for case, scene in spec.scenes.items():
             params = _case_parameters(spec, case, design)
@@ -125,7 +127,6 @@ def check_evaluable(model):
     Returns ``(where, V, evaluations)``: the points' descriptions, input vectors and
     evaluations, for further checks of the same points."""
     spec = model.spec
-    check_joint_values(spec)
     points = _design_points(spec)
     used = {case: _case_outputs(spec, case) for case in spec.scenes}
     V = np.stack([_vector(model, values) for _, values in points])

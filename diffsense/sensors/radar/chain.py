@@ -154,7 +154,7 @@ class RadarChain(Chain):
         needs are not traced (see :class:`diffsense.sensors.chain.Chain`)."""
         check_inside_horizon(scene, p)
         check_sea_clutter_domain(scene, p)
-        check_binary_counts(scene, p)
+        self.check_values(scene, p)
         r0 = p["range_m"]
         lam = wavelength_m(p["freq_hz"])
         ant = antenna(scene, p, lam)

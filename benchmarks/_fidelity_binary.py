@@ -53,9 +53,6 @@ FULL_COUNTS = NEAR_OPTIMUM + ((10, 2), (10, 10))
 QUICK_PDS, QUICK_PFAS, QUICK_COUNTS, QUICK_CASES = (0.5, 0.9), (1e-6,), ((24, 12),), (0, 2)
 #: columns of the timing batch per Swerling case: the grid's points repeated
 TIMING_COLUMNS, QUICK_TIMING_COLUMNS = 512, 64
-#: XLA presets (diffsense.optimize.compile): the package's, and optimisation level 0 for ``quick``
-#: (faster to compile, slower to run: quick times are indicative only)
-PRESET, QUICK_PRESET = "optimized", "fast"
 REFERENCE_DPS = 30
 DB_BOUND = 0.01
 
@@ -146,7 +143,7 @@ def binary_integration(quick: bool) -> Family:
     (exact, t_ex, ops_ex), (shn, t_sh, ops_sh), (alb, t_al, ops_al) = measure_tiled(
         [(_exact_fn(cases), grid), (_per_pulse_fn(_shnidman, cases), grid),
          (_per_pulse_fn(_albersheim, (0,)), tuple(a[:1] for a in grid))],
-        repeats, columns, QUICK_PRESET if quick else PRESET)
+        repeats, columns, quick)
     p_f = np.array([r[2] for r in ref_rows])
     outside = int(np.sum(p_f > 1e-3))
     near = np.array([p[:2] in NEAR_OPTIMUM for p in row])  # columns at (N, M) near the optimum M

@@ -50,9 +50,6 @@ FULL_CELLS, QUICK_CELLS = (8, 16, 32, 64), (16,)
 FULL_PDS, QUICK_PDS = (0.5, 0.9, 0.99), (0.5, 0.9)
 FULL_PFAS, QUICK_PFAS = (1e-3, 1e-6, 1e-9, 1e-12), (1e-6,)
 TIMING_COLUMNS, QUICK_TIMING_COLUMNS = 512, 64
-#: XLA presets (diffsense.optimize.compile): the package's, and optimisation level 0 for ``quick``
-#: (faster to compile, slower to run: quick times are indicative only)
-PRESET, QUICK_PRESET = "optimized", "fast"
 REFERENCE_DPS = 30
 #: the OS rank as a fraction of the cells (Rohling 1983: about 3/4; the radar's default)
 RANK_FRACTION = 0.75
@@ -121,7 +118,7 @@ def cfar_loss(quick: bool) -> Family:
     grid = tuple(jnp.asarray(np.array([[p[k] for p in row]] * len(cells), dtype=float)) for k in (0, 1))
     rows = []
     measured = measure_tiled([(_loss_fn(processor, cells), grid) for processor in PROCESSORS], repeats, columns,
-                             QUICK_PRESET if quick else PRESET)
+                             quick)
     for processor, (out, seconds, ops) in zip(PROCESSORS, measured):
         ref = np.array([[loss_mp(processor, pd, pfa, n) for pd, pfa in row] for n in cells])
         per_n = ", ".join(f"n = {n}: {worst(out[i], ref[i]):.2g}" for i, n in enumerate(cells))

@@ -31,7 +31,6 @@ child alongside the float64 programs.
 
 from __future__ import annotations
 
-import concurrent.futures
 import json
 import math
 import os
@@ -40,7 +39,7 @@ import sys
 import tempfile
 import warnings
 from pathlib import Path
-from typing import Callable, List, Sequence, Tuple
+from typing import Sequence
 
 import _support
 
@@ -51,11 +50,8 @@ import jax  # noqa: E402
 import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
 
-from _fidelity_support import _OP, Choice, Family, main_alone, time_per_eval, worst  # noqa: E402
+from _fidelity_support import Choice, Family, compile_all, main_alone, time_per_eval, worst  # noqa: E402
 
-#: XLA presets (diffsense.optimize.compile): the package's default, and optimisation level 0 for
-#: ``quick`` (a third of the compile time at about 1.5-3x the run time: quick times are indicative)
-PRESET, QUICK_PRESET = "optimized", "fast"
 #: the bound fidelity = "fast" must meet for a dB quantity (family 1 and 2)
 DB_BOUND = 0.01
 #: the bound of the received-pulse width (relative): 0.1 % of the range resolution
@@ -74,23 +70,6 @@ SHNIDMAN_DOMAIN = ((0.1, 0.99), (1e-9, 1e-3))
 ALBERSHEIM_DOMAIN = ((0.1, 0.9), (1e-7, 1e-3))
 #: detectability values a spec may set that take the same parameters as "exact"
 SAME_PARAMETER_OPTIONS = ("book", "shnidman", "albersheim", "barton", "chebyshev")
-
-
-# --- compiling -------------------------------------------------------------------------------
-
-
-def compile_all(jobs: Sequence[Tuple[Callable, tuple]], quick: bool, alongside=None) -> List[Tuple[Callable, int]]:
-    """``(compiled, HLO operations)`` of each ``(fn, args)``, compiled two at a time in background
-    threads (XLA compiles without Python's lock) with :data:`PRESET` (``quick``: :data:`QUICK_PRESET`),
-    while this thread calls ``alongside()`` if given."""
-    from diffsense.optimize.compile import jit_with_options
-
-    preset = QUICK_PRESET if quick else PRESET
-    with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:
-        futures = [pool.submit(jit_with_options(fn, preset).lower(*args).compile) for fn, args in jobs]
-        if alongside is not None:
-            alongside()
-        return [(c, len(_OP.findall(c.as_text()))) for c in (f.result() for f in futures)]
 
 
 def _us(seconds):

@@ -45,17 +45,13 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from _fidelity_support import _OP, Choice, Family, main_alone, worst
+from _fidelity_support import _OP, PRESET, QUICK_PRESET, Choice, Family, main_alone, worst
 
 ROOT = _support.ROOT
 MULTIPATH = ROOT / "tests" / "design" / "interval_specs" / "multipath_null.toml"
 ORE_PASS = ROOT / "designs" / "ore_pass.toml"
 SIDESCAN = ROOT / "designs" / "sidescan_sonar.toml"
 FIRE_CONTROL = ROOT / "designs" / "fire_control.toml"
-#: XLA options preset of every program here: the package's own for its design programs; with
-#: ``quick`` the "fast" preset (optimisation level 0: a third of the compile time, ~1.5x the run time)
-PRESET = "optimized"
-QUICK_PRESET = "fast"
 #: bound of the fast choice for worst values in dB
 DB_BOUND = 0.01
 

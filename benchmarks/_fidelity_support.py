@@ -87,26 +87,40 @@ def hlo_ops(fn: Callable, *args) -> int:
     return len(_OP.findall(text))
 
 
-def measure_tiled(jobs, repeats: int, columns: int, preset: str = "optimized"):
-    """Per ``(fn, grid)`` of ``jobs`` (``grid``: a tuple of (rows, width) arrays, one row per static
-    case): ``(values on the grid, seconds per point, HLO operations per row)``. Each grid is tiled
-    to ``columns`` per row for the timing; the programs are compiled two at a time in background
-    threads with the XLA options of ``preset`` (:mod:`diffsense.optimize.compile`), then timed one
-    after another."""
+#: XLA presets (diffsense.optimize.compile): the package's default, and optimisation level 0 for
+#: ``quick`` (a third of the compile time at about 1.5-3x the run time: quick times are indicative)
+PRESET, QUICK_PRESET = "optimized", "fast"
+
+
+def compile_all(jobs, quick: bool, alongside=None) -> list:
+    """``(compiled, HLO operations)`` of each ``(fn, args)``, compiled two at a time in background
+    threads (XLA compiles without Python's lock) with :data:`PRESET` (``quick``: :data:`QUICK_PRESET`),
+    while this thread calls ``alongside()`` if given."""
     import concurrent.futures
 
     from diffsense.optimize.compile import jit_with_options
 
-    tiled = [tuple(np.tile(np.asarray(a), (1, -(-columns // np.shape(a)[1]))) for a in grid) for _, grid in jobs]
-    lowered = [jit_with_options(fn, preset).lower(*args) for (fn, _), args in zip(jobs, tiled)]
+    preset = QUICK_PRESET if quick else PRESET
     with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:
-        compiled = list(pool.map(lambda low: low.compile(), lowered))
+        futures = [pool.submit(jit_with_options(fn, preset).lower(*args).compile) for fn, args in jobs]
+        if alongside is not None:
+            alongside()
+        return [(c, len(_OP.findall(c.as_text()))) for c in (f.result() for f in futures)]
+
+
+def measure_tiled(jobs, repeats: int, columns: int, quick: bool):
+    """Per ``(fn, grid)`` of ``jobs`` (``grid``: a tuple of (rows, width) arrays, one row per static
+    case): ``(values on the grid, seconds per point, HLO operations per row)``. Each grid is tiled
+    to ``columns`` per row for the timing; the programs are compiled by :func:`compile_all`, then
+    timed one after another."""
+    tiled = [tuple(np.tile(np.asarray(a), (1, -(-columns // np.shape(a)[1]))) for a in grid) for _, grid in jobs]
+    compiled = compile_all([(fn, args) for (fn, _), args in zip(jobs, tiled)], quick)
     out = []
-    for (_, grid), args, program in zip(jobs, tiled, compiled):
+    for (_, grid), args, (program, ops) in zip(jobs, tiled, compiled):
         width, rows = np.shape(grid[0])[1], np.shape(grid[0])[0]
         values = np.asarray(program(*args))[:, :width]
         seconds = time_per_eval(program, *args, batch=args[0].size, repeats=repeats)
-        out.append((values, seconds, len(_OP.findall(program.as_text())) // rows))
+        out.append((values, seconds, ops // rows))
     return out
 
 
@@ -165,4 +179,4 @@ def main_alone(run: Callable, doc: str, argv=None) -> None:
     print(f"\n({len(families)} families in {time.perf_counter() - t:.1f} s)")
 
 
-__all__ = ["Choice", "Family", "time_per_eval", "measure_tiled", "hlo_ops", "worst", "pareto", "print_family", "main_alone"]
+__all__ = ["Choice", "Family", "PRESET", "QUICK_PRESET", "time_per_eval", "compile_all", "measure_tiled", "hlo_ops", "worst", "pareto", "print_family", "main_alone"]

@@ -31,6 +31,7 @@ from typing import Callable, Dict, Mapping, Optional
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from diffsense.errors import DomainError
 from diffsense.numerics.checks import check_range, is_concrete
@@ -69,6 +70,13 @@ def chain_for(scene: Scene) -> Chain:
 
 def complete_parameters(scene: Scene, params: Mapping[str, object]) -> Dict[str, jnp.ndarray]:
     """Fill defaults, reject unknown or missing names, check concrete values against domains."""
+    return {name: jnp.asarray(value, dtype=float) for name, value in _filled(scene, params, checked=True).items()}
+
+
+def _filled(scene: Scene, params: Mapping[str, object], *, checked: bool) -> Dict[str, object]:
+    """``params`` with the defaults of the missing names, as given (no conversion); unknown or
+    missing names raise :class:`DomainError`, and with ``checked`` so does a concrete value
+    outside its parameter's domain."""
     chain = chain_for(scene)
     spec = chain.parameters(scene)
     unknown = sorted(set(params) - set(spec))
@@ -87,10 +95,10 @@ def complete_parameters(scene: Scene, params: Mapping[str, object]) -> Dict[str,
         else:
             missing.append(name)
             continue
-        if is_concrete(value):
+        if checked and is_concrete(value):
             check_range(name, value, prm.lo, prm.hi, lo_open=prm.lo_open, hi_open=prm.hi_open,
                         where=f"{scene.sensor} chain")
-        out[name] = jnp.asarray(value, dtype=float)
+        out[name] = value
     if missing:
         raise DomainError(f"{scene.sensor} scene: missing required parameter(s) {missing}")
     return out
@@ -126,8 +134,11 @@ def evaluate(scene: Scene, params: Optional[Mapping[str, object]] = None, **kwar
 
 def check_values(scene: Scene, params: Mapping[str, float]) -> None:
     """Raise :class:`~diffsense.errors.DomainError` when plain-number ``params`` hold values the
-    chain of ``scene`` rejects together and can tell without evaluating (no JAX program)."""
-    chain_for(scene).check_values(scene, complete_parameters(scene, dict(params)))
+    chain of ``scene`` rejects together and can tell without evaluating (no JAX program). Each
+    value's own domain is not checked here (a spec's loader checks every value alone); the values
+    reach the chain as NumPy float64 numbers, so no JAX operation runs."""
+    values = _filled(scene, dict(params), checked=False)
+    chain_for(scene).check_values(scene, {name: np.asarray(v, dtype=float) for name, v in values.items()})
 
 
 @functools.lru_cache(maxsize=256)

@@ -13,7 +13,6 @@ import functools
 from typing import Callable, Dict
 
 import jax
-import jax.extend.core as _jcore
 
 _PART_OF_NAME: Dict[str, str] = {}
 
@@ -42,6 +41,9 @@ def scene_part(part: str) -> Callable:
 
 
 def _sub_jaxprs(eqn):
+    # imported here: jax.extend pulls in Pallas (0.13 s), which only this inspection needs
+    import jax.extend.core as _jcore
+
     for value in eqn.params.values():
         candidates = value if isinstance(value, (tuple, list)) else (value,)
         for c in candidates:

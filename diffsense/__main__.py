@@ -1,5 +1,5 @@
 """``python -m diffsense`` runs the ``diffsense`` command."""
 
-from diffsense.cli.app import main
+from diffsense.cli.app import run
 
-main()
+run()

@@ -2,6 +2,6 @@
 :mod:`.cmd_design` (evaluate, optimize, report), :mod:`.cmd_describe`, :mod:`.cmd_detection`,
 :mod:`.records` and :mod:`.output` (what is printed and written)."""
 
-from diffsense.cli.app import app, main
+from diffsense.cli.app import app, main, run
 
-__all__ = ["app", "main"]
+__all__ = ["app", "main", "run"]

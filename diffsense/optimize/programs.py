@@ -503,7 +503,17 @@ def compile_pool() -> concurrent.futures.ThreadPoolExecutor:
     return _POOL
 
 
+def finish_compiling() -> None:
+    """Wait for every compilation started in the pool of :func:`compile_pool` (its programs are
+    stored in the cache folder as they finish), as an interpreter's exit would, and close the
+    pool; a later :func:`compile_pool` starts a new one."""
+    global _POOL
+    pool, _POOL = _POOL, None
+    if pool is not None:
+        pool.shutdown(wait=True)
+
+
 __all__ = ["Program", "LazyProgram", "register_serializable", "write_atomically", "lock_compilation_cache",
-           "CACHE_MAX_BYTES", "code_version", "cache_folder", "compile_pool", "report_programs",
+           "CACHE_MAX_BYTES", "code_version", "cache_folder", "compile_pool", "finish_compiling", "report_programs",
            "COMPILATIONS", "TRACES", "LOG_VARIABLE"]
 

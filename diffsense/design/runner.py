@@ -3,7 +3,8 @@ interval requirements around it.
 
 :class:`Runner` feeds lanes — starts, θ (:class:`~diffsense.design.inputs.SolveInputs`) and boxes
 — to the model's lane program (:meth:`~diffsense.design.programs.Programs.lanes`) in calls of a
-fixed number of lanes (:func:`lane_batch`, the last call padded by repeating its last lane), so
+fixed number of lanes (:func:`lane_batch`, the last call padded by repeating its last lane with
+its box pinned at its start, which the solver returns at once), so
 every step of :func:`~diffsense.design.optimizer.optimize_design`, the canonical stage and the
 linearisations it needs reuse one compilation. :meth:`Runner.settle` is the exchange method of
 :mod:`diffsense.design.intervals`: after a solve the search looks for worse points at each
@@ -93,7 +94,8 @@ class Runner:
         n = lanes.x.shape[0]
         x0 = np.hstack([lanes.x, np.zeros((n, 1))]) if lanes.x.shape[1] == n_var else lanes.x
         scale = np.broadcast_to(self.scale if scale is None else scale, x0.shape)
-        res = solve_across_processes(self.program, self.batch, x0, lanes.theta, lanes.lower, lanes.upper, scale)
+        res = solve_across_processes(self.program, self.batch, x0, lanes.theta, lanes.lower, lanes.upper, scale,
+                                     pin_padding=True)
         self.solves += n
         return res._replace(x=res.x[:, :-1]) if lanes.x.shape[1] == n_var else res
 

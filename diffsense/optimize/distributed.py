@@ -79,11 +79,12 @@ def share_rows(n_rows: int, n_processes: int, index: int) -> np.ndarray:
     return np.arange(index * per, min((index + 1) * per, n_rows))
 
 
-def solve_across_processes(solver, batch: Optional[int], *columns, alongside=None):
+def solve_across_processes(solver, batch: Optional[int], *columns, alongside=None, pin_padding: bool = False):
     """``solver(*columns)`` over the rows of ``columns`` (pytrees whose leaves have a leading row
     axis), each process solving its share (:func:`share_rows`) in calls of ``batch`` rows
     (default: the share's size, ⌈rows / processes⌉) and every process receiving all results,
-    as NumPy arrays in row order; ``alongside`` as in :func:`~diffsense.optimize.lanes.solve_in_batches`.
+    as NumPy arrays in row order; ``alongside`` and ``pin_padding`` as in
+    :func:`~diffsense.optimize.lanes.solve_in_batches`.
 
     Every process must call this with the same ``solver``, ``batch`` and row count. Each share
     is padded to ⌈rows / processes⌉ rows by repeating its last row (the gather needs equal
@@ -96,12 +97,13 @@ def solve_across_processes(solver, batch: Optional[int], *columns, alongside=Non
     per = math.ceil(n / count)
     batch = per if batch is None else int(batch)
     if count == 1:
-        return solve_in_batches(solver, batch, *columns, alongside=alongside)
+        return solve_in_batches(solver, batch, *columns, alongside=alongside, pin_padding=pin_padding)
     from jax.experimental import multihost_utils
 
     mine = share_rows(n, count, index)
     padded = np.concatenate([mine, np.full(per - mine.size, mine[-1] if mine.size else n - 1)])
-    local = solve_in_batches(solver, batch, *(take(c, padded) for c in columns), alongside=alongside)
+    local = solve_in_batches(solver, batch, *(take(c, padded) for c in columns), alongside=alongside,
+                             pin_padding=pin_padding)
     gathered = multihost_utils.process_allgather(local, tiled=True)
     return jax.tree_util.tree_map(lambda a: np.asarray(a)[:n], gathered)
 

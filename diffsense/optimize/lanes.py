@@ -19,8 +19,8 @@ section 5): 0.68 s one after another against 3.8 s with 10 lanes per vmap and 7.
 80 in one vmap.
 
 :func:`solve_in_batches` calls a program on batches of a fixed number of lanes (the last one
-padded by repeating its final lane), so a later step with another number of lanes reuses the
-first step's compiled program; :func:`best_per_group` picks the best feasible lane of each
+padded by repeating its final lane, optionally pinned at its start so that it costs nothing),
+so a later step with another number of lanes reuses the first step's compiled program; :func:`best_per_group` picks the best feasible lane of each
 group (a catalog option, a start's neighbours).
 """
 
@@ -119,10 +119,15 @@ def make_lane_solver(problem: Problem, options: SolverOptions = SolverOptions(),
     return jit_with_options(lane_program(problem, options, lockstep), compile)
 
 
-def solve_in_batches(solver, batch: int, *columns, alongside=None, threads: Optional[int] = None):
+def solve_in_batches(solver, batch: int, *columns, alongside=None, threads: Optional[int] = None,
+                     pin_padding: bool = False):
     """``solver(*columns)`` over the rows of ``columns`` (pytrees whose leaves have a leading
     row axis) in calls of exactly ``batch`` rows, the last one padded by repeating its final
-    row, so every call reuses the program compiled for the first. With ``alongside``, the
+    row, so every call reuses the program compiled for the first. With ``pin_padding`` the
+    columns are a lane program's ``(x0, θ, lower, upper, …)`` and each padding row's box is
+    pinned at its start (lower = upper = x0): the solver returns such a lane at once, so a
+    call of one real lane does not solve it ``batch`` times (on CPU the lanes of a call run one
+    after another). Padding rows' results are dropped either way. With ``alongside``, the
     first call's compilation runs in a background thread while this thread calls
     ``alongside()`` (:func:`diffsense.optimize.compile.call_compiling_alongside`). Returns the
     outputs as NumPy arrays, one row per input row.
@@ -141,6 +146,10 @@ def solve_in_batches(solver, batch: int, *columns, alongside=None, threads: Opti
         # host arrays go to the compiled call as they are (jnp.asarray outside a trace would
         # compile a small staging program per shape)
         args = tuple(take(c, padded) for c in columns)
+        if pin_padding and rows.size < batch:
+            start = np.asarray(args[0])
+            pinned = np.arange(batch) >= rows.size
+            args = args[:2] + tuple(np.where(pinned[:, None], start, np.asarray(a)) for a in args[2:4]) + args[4:]
         res = call_compiling_alongside(solver, args, alongside) if first and alongside is not None else solver(*args)
         return jax.tree_util.tree_map(lambda a, k=rows.size: np.asarray(a)[:k], res)
 
@@ -168,7 +177,8 @@ def solve_lanes(solver, lanes: Lanes, batch: Optional[int] = None, alongside=Non
     """The :class:`Result` of every lane (NumPy), by a solver of :func:`make_lane_solver`, in
     calls of ``batch`` lanes (default: all in one call); see :func:`solve_in_batches`."""
     batch = lanes.x0.shape[0] if batch is None else batch
-    return solve_in_batches(solver, batch, lanes.x0, lanes.theta, lanes.lower, lanes.upper, alongside=alongside)
+    return solve_in_batches(solver, batch, lanes.x0, lanes.theta, lanes.lower, lanes.upper, alongside=alongside,
+                            pin_padding=True)
 
 
 def best_per_group(result: Result, group, n_groups: int, ok=None):

@@ -106,6 +106,32 @@ def test_batches_run_on_threads_give_each_row_its_own_answer_in_order():
     np.testing.assert_array_equal(two.f, one.f)
 
 
+def test_pinned_padding_pins_only_the_padding_rows_and_keeps_every_answer():
+    # 11 lanes in calls of 4: the last call has one padding row; pinned, its box is its start,
+    # and the real rows' answers equal those of the plain (repeated-row) padding
+    prob = _shifted_quadratic()
+    thetas = np.stack([np.linspace(-5.0, 5.0, 11), np.linspace(1.0, -1.0, 11)], axis=1)
+    lanes = lane_grid(np.full((1, 1), 0.5), thetas, lower=prob.lower, upper=prob.upper)
+    solver = make_lane_solver(prob, OPTS, lockstep=1, compile="fast")
+    seen = []
+
+    def spy(x0, theta, lower, upper):
+        seen.append((np.array(x0), np.array(lower), np.array(upper)))
+        return solver(x0, theta, lower, upper)
+
+    cols = (lanes.x0, lanes.theta, lanes.lower, lanes.upper)
+    pinned = solve_in_batches(spy, 4, *cols, threads=1, pin_padding=True)
+    plain = solve_in_batches(solver, 4, *cols, threads=1)
+    x0, lower, upper = seen[-1]
+    np.testing.assert_array_equal(lower[3:], x0[3:])
+    np.testing.assert_array_equal(upper[3:], x0[3:])
+    np.testing.assert_array_equal(lower[:3], lanes.lower[8:])
+    np.testing.assert_array_equal(upper[:3], lanes.upper[8:])
+    np.testing.assert_array_equal(seen[0][1], lanes.lower[:4])  # full calls are not touched
+    np.testing.assert_array_equal(pinned.x, plain.x)
+    np.testing.assert_allclose(pinned.x[:, 0], np.maximum(thetas[:, 0], thetas[:, 1]), atol=1e-9)
+
+
 def test_problem_is_an_immutable_pytree_of_its_bounds():
     import jax
 

@@ -12,14 +12,18 @@ numbers, so it is
   the Python code again (tracing is what a persistent XLA cache never saves);
 * **compiled in a background thread** (XLA compiles without holding Python's lock), so two
   programs compile on two cores while the main thread traces a third or runs a compiled one;
-* **kept compiled**: the executable XLA made goes beside the module (``NAME-KEY.xlaexec``, keyed
-  besides by the XLA options, jaxlib, the device and ``XLA_FLAGS``) and a later process loads
-  it directly, without lowering the module again or hashing it for JAX's persistent cache
-  (about a third of a second less per program). Only an executable XLA compiled in this
-  process is stored: one JAX read back from its own persistent cache serialises without the
-  kernels XLA:CPU built for it, and loading that copy would fail when it runs: a program whose
-  executable JAX's cache held already (compiled by an earlier version of this package, or by a
-  process that does not store executables) keeps loading through JAX's cache.
+* **kept compiled**: the executable XLA made goes beside the module (``NAME-HASH.xlaexec``,
+  keyed by the module's content — the bytes of its StableHLO — the XLA options, jaxlib, the
+  device and ``XLA_FLAGS``) and a later process loads it directly, without lowering the module
+  again or hashing it for JAX's persistent cache (about a third of a second less per program).
+  Modules are exported without source locations, so a change of the package that leaves a
+  program's computation alone (which still traces it again) finds its executable. Only an
+  executable XLA compiled in this process is stored: one JAX read back from its own persistent
+  cache serialises without the kernels XLA:CPU built for it, and loading that copy would fail
+  when it runs. So that JAX's cache does not hold such a program without its stored executable
+  (which would leave it loading through JAX's cache for good), a program that may be stored is
+  compiled under a name of its own (``diffsense_NAME``), apart from entries made by versions of
+  this package before the stored executables were keyed by content.
 
 ``<cache>`` is the folder of JAX's persistent compilation cache (``jax_compilation_cache_dir``,
 which the ``diffsense`` command sets from ``DIFFSENSE_CACHE_DIR``); without one, programs are
@@ -34,6 +38,7 @@ from __future__ import annotations
 
 import atexit
 import concurrent.futures
+import contextlib
 import hashlib
 import json
 import os
@@ -211,7 +216,8 @@ class Program:
         fn = self.fn
         named = _named(fn, self.name)
         try:
-            exported = jax.export.export(jax.jit(named))(*self.avals)
+            with _without_locations():
+                exported = jax.export.export(jax.jit(named))(*self.avals)
         except NotImplementedError as exc:
             self.unsupported = True
             if unsupported is not None:
@@ -238,13 +244,15 @@ class Program:
         t0 = time.perf_counter()
         self._out = (exported.out_tree, [(tuple(a.shape), np.dtype(a.dtype)) for a in exported.out_avals])
         trees = self._trees(exported)
-        path = self._executable_path() if _runtime_ready(exported) else None
-        lowered = self._lower(exported) if path is None or not path.exists() else None
+        path = self._executable_path(exported) if _runtime_ready(exported) else None
+        lowered = self._lower(exported, path is not None) if path is None or not path.exists() else None
         return trees, path, lowered, time.perf_counter() - t0
 
-    def _lower(self, exported):
-        """(``exported`` lowered for XLA with the preset's options, those options)."""
-        call = _named(_packing(exported.call) if self.packed else exported.call, self.name)
+    def _lower(self, exported, stored: bool):
+        """(``exported`` lowered for XLA with the preset's options, those options); a program
+        whose executable is ``stored`` is named ``diffsense_NAME`` (module docstring)."""
+        name = f"diffsense_{self.name}" if stored else self.name
+        call = _named(_packing(exported.call) if self.packed else exported.call, name)
         opts = compiler_options(self.preset)
         jitted = jax.jit(call, compiler_options=opts) if opts else jax.jit(call)
         return jitted.lower(*self.avals), opts
@@ -259,7 +267,7 @@ class Program:
         self.executable_loaded = compiled is not None
         if compiled is None:
             if lowered is None:  # a stored executable that cannot be loaded: compile again
-                lowered = self._lower(self._exported_module)
+                lowered = self._lower(self._exported_module, path is not None)
             module, opts = lowered
             _HITS.count = 0
             compiled = module.compile()
@@ -277,16 +285,19 @@ class Program:
         out = jax.tree_util.tree_structure(0.0) if self.packed else exported.out_tree
         return jax.tree_util.tree_structure((self.avals, {})), out
 
-    def _executable_path(self) -> Optional[Path]:
-        """``<cache>/programs/NAME-KEY.xlaexec``: the compiled executable, keyed by the program's
-        key and everything the machine code depends on besides (XLA options of the preset,
-        jaxlib, platform and device kind, ``XLA_FLAGS``); None without a cache folder."""
+    def _executable_path(self, exported) -> Optional[Path]:
+        """``<cache>/programs/NAME-HASH.xlaexec``: the compiled executable of ``exported``, keyed
+        by the module's content (its serialised StableHLO, whether its outputs are packed) and
+        everything the machine code depends on besides (XLA options of the preset, jaxlib,
+        platform and device kind, ``XLA_FLAGS``); None without a cache folder."""
         folder = cache_folder()
         if folder is None:
             return None
         device = jax.devices()[0]
-        text = "\n".join([self.key, repr(preset_options(self.preset)), _jaxlib_version(), device.platform,
-                          device.device_kind, str(jax.device_count()), os.environ.get("XLA_FLAGS", "")])
+        module = hashlib.sha256(exported.mlir_module_serialized).hexdigest()
+        text = "\n".join([self.name, module, f"packed={self.packed}", repr(preset_options(self.preset)),
+                          _jaxlib_version(), device.platform, device.device_kind, str(jax.device_count()),
+                          os.environ.get("XLA_FLAGS", "")])
         return folder / f"{self.name}-{hashlib.sha256(text.encode()).hexdigest()[:40]}.xlaexec"
 
     def start(self) -> "Program":
@@ -456,6 +467,18 @@ class LazyProgram:
         if shapes not in self._programs:
             self._programs[shapes] = Program(self.name, self.fn, args, self.structure, self.preset)
         return self._programs[shapes](*args)
+
+
+def _without_locations():
+    """A context in which JAX lowers without source locations (file and line of each operation),
+    so that a module's bytes depend on its computation only; a no-op on a JAX without the
+    setting."""
+    try:
+        from jax._src import config as jax_config
+
+        return jax_config.traceback_in_locations_limit(0)
+    except (ImportError, AttributeError, TypeError):
+        return contextlib.nullcontext()
 
 
 def _named(fn, name: str):

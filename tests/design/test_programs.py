@@ -88,6 +88,8 @@ CHILD = textwrap.dedent("""
     from diffsense.design.model import DesignModel
     from diffsense.design.spec import load_spec
     from diffsense.optimize import programs as P
+    if len(sys.argv) > 3:  # another version of the package: its programs are traced again
+        P._CODE_VERSION = sys.argv[3]
     model = DesignModel(load_spec(sys.argv[1]))
     program = model.programs.check()
     program.compiled()
@@ -105,12 +107,12 @@ def test_a_second_process_loads_the_traced_program(tmp_path):
     spec = DESIGNS / "radiometer_submunition.toml"
     env = dict(os.environ, PYTHONPATH=str(REPO))
     runs = []
-    for _ in range(2):
-        out = subprocess.run([sys.executable, "-c", CHILD, str(spec), str(tmp_path / "cache")], env=env,
+    for version in ([], [], ["another version"]):
+        out = subprocess.run([sys.executable, "-c", CHILD, str(spec), str(tmp_path / "cache"), *version], env=env,
                              capture_output=True, text=True, timeout=900)
         assert out.returncode == 0, out.stderr[-3000:]
         runs.append(json.loads(out.stdout.strip().splitlines()[-1]))
-    first, second = runs
+    first, second, upgraded = runs
     assert not first["from_disk"] and first["traces"] == 1 and not first["executable"]
     # the second process neither traces nor compiles: the module and the executable come from disk
     assert second["from_disk"] and second["traces"] == 0 and second["executable"]
@@ -120,7 +122,13 @@ def test_a_second_process_loads_the_traced_program(tmp_path):
     # XLA's persistent cache, so the second process compiled nothing (the outputs program has
     # weakly typed outputs when traced and not when loaded: its packing must not tell them apart)
     for name in ("check", "outputs"):
-        assert len(list((tmp_path / "cache").glob(f"jit_{name}-*"))) == 1, name
+        assert len(list((tmp_path / "cache").glob(f"jit_diffsense_{name}-*"))) == 1, name
+    # a new version of the package traces its programs again; one whose module is unchanged
+    # (same computation; modules carry no source locations) finds the executable stored for it
+    assert not upgraded["from_disk"] and upgraded["traces"] == 1 and upgraded["executable"]
+    assert len(list((tmp_path / "cache" / "programs").glob("check-*.xlaexec"))) == 1
+    assert len(list((tmp_path / "cache" / "programs").glob("check-*.jaxexport"))) == 2
+    assert upgraded["values"] == first["values"] and upgraded["full"] == first["full"]
 
 
 LEGACY = textwrap.dedent("""

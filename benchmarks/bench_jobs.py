@@ -99,8 +99,9 @@ def compile_counts(log: str) -> dict:
     """Programs XLA-compiled without a persistent-cache hit (JAX's log), programs traced (the
     package's own program log: the others were loaded from the cache folder), and small
     programs of operations run outside a compiled program ("eager")."""
-    hits = set(re.findall(r"Persistent compilation cache hit for 'jit_([A-Za-z0-9_]+)'", log))
-    compiled = re.findall(r"Finished XLA compilation of jit\(([A-Za-z0-9_<>]+)\)", log)
+    # a program whose executable the package stores compiles as diffsense_NAME (optimize.programs)
+    hits = set(re.findall(r"Persistent compilation cache hit for 'jit_(?:diffsense_)?([A-Za-z0-9_]+)'", log))
+    compiled = re.findall(r"Finished XLA compilation of jit\((?:diffsense_)?([A-Za-z0-9_<>]+)\)", log)
     named = [c for c in compiled if c in PROGRAMS and c not in hits]
     eager = [c for c in compiled if c not in PROGRAMS and c not in hits]
     traced = re.findall(r"^program (\S+) traced", log, re.M)

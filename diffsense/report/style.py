@@ -227,7 +227,9 @@ def _fit_categories(fig, renderer) -> bool:
 
 def _fit_legends(fig, renderer) -> bool:
     """Wrap each legend of :func:`legend`; move it below the axes when it covers data there, and
-    grow the figure by its height."""
+    grow the figure by its height. The three are measured on the same renderer, in one step: a
+    legend inside its axes does not move them, and a legend's size does not depend on where it
+    is placed (each further layout pass of a figure costs a full draw)."""
     changed = False
     for ax, entry in list(_LEGENDS.items()):
         if ax.figure is not fig:
@@ -240,17 +242,20 @@ def _fit_legends(fig, renderer) -> bool:
             if current is None:
                 continue
             texts = current.get_texts()
+            probe = texts[0].get_fontproperties()
             width = 0.5 * ax.get_window_extent(renderer).width
-            labels = [wrap_text(s, width, texts[0].get_fontproperties(), renderer) for s in raw]
+            labels = [wrap_text(s, width, probe, renderer) for s in raw]
             if labels != [t.get_text() for t in texts]:
-                ax.legend(handles, labels, loc="best", fontsize=LEGEND_SIZE, framealpha=0.95)
-                return True
+                current = ax.legend(handles, labels, loc="best", fontsize=LEGEND_SIZE, framealpha=0.95)
+                changed = True
             if covered_data(ax, current.get_window_extent(renderer), renderer):
-                probe = texts[0].get_fontproperties()
                 current.remove()
                 entry.update(outside=True, height=fig.get_figheight())
                 labels = [wrap_text(s, 0.92 * fig.bbox.width - 60.0, probe, renderer) for s in raw]
-                fig.legend(handles, labels, loc="outside lower center", fontsize=LEGEND_SIZE, framealpha=0.95)
+                below = fig.legend(handles, labels, loc="outside lower center", fontsize=LEGEND_SIZE,
+                                   framealpha=0.95)
+                # the figure grows by the legend's height: the plot keeps its size
+                fig.set_figheight(entry["height"] + below.get_window_extent(renderer).height / fig.dpi + 0.08)
                 changed = True
             continue
         (below,) = fig.legends

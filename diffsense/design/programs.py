@@ -231,6 +231,9 @@ class Programs:
             out = program(V[padded], th) if T is None else program(V[padded], T[padded], th)
             parts.append(out)
             counts.append(rows.size)
+        if program.packed:  # every output leads with the row axis; padding rows come last
+            joined = program.unpack_calls(np.stack(jax.device_get(parts)))
+            return jax.tree_util.tree_map(lambda a: a[:V.shape[0]], joined)
         parts = [program.unpack(p) for p in jax.device_get(parts)]
         if len(parts) == 1:
             return jax.tree_util.tree_map(lambda a: np.asarray(a)[:counts[0]], parts[0])

@@ -342,6 +342,31 @@ class Program:
             start += size
         return jax.tree_util.tree_unflatten(tree, out)
 
+    def unpack_calls(self, flats):
+        """The outputs (NumPy pytree) of several calls of a packed program whose outputs all lead
+        with the same row axis, from their results ``flats`` (k, length) on the host, joined
+        along that axis (call after call): one slice per output for all the calls together.
+
+        >>> p = Program("demo", lambda v: {"a": v * 2.0, "b": v[:, :1] > 0.0}, (np.zeros((2, 3)),), "demo",
+        ...             packed=True)
+        >>> out = p.unpack_calls(np.stack([p(np.ones((2, 3))), p(-np.ones((2, 3)))]))
+        >>> out["a"].shape, out["b"][:, 0].tolist()
+        ((4, 3), [True, True, False, False])
+        """
+        if not self.packed:
+            raise ValueError(f"program {self.name}: unpack_calls needs a packed program")
+        self.compiled()
+        tree, leaves = self._out
+        flats = np.asarray(flats)
+        k = flats.shape[0]
+        out, start = [], 0
+        for shape, dtype in leaves:
+            size = int(np.prod(shape, dtype=np.int64))
+            block = flats[:, start:start + size].reshape((k * shape[0],) + tuple(shape[1:]))
+            out.append(block.astype(dtype, copy=False))
+            start += size
+        return jax.tree_util.tree_unflatten(tree, out)
+
 
 def _packing(call):
     """``call`` with its outputs raveled and concatenated into one float64 vector (booleans and

@@ -20,8 +20,9 @@ section 5): 0.68 s one after another against 3.8 s with 10 lanes per vmap and 7.
 
 :func:`solve_in_batches` calls a program on batches of a fixed number of lanes (the last one
 padded by repeating its final lane, optionally pinned at its start so that it costs nothing),
-so a later step with another number of lanes reuses the first step's compiled program; :func:`best_per_group` picks the best feasible lane of each
-group (a catalog option, a start's neighbours).
+so a later step with another number of lanes reuses the first step's compiled program;
+:func:`best_per_group` picks the best feasible lane of each group (a catalog option, a start's
+neighbours).
 """
 
 from __future__ import annotations

@@ -114,7 +114,8 @@ def cumulative_pd(pd_per_scan):
 
     Args:
         pd_per_scan: array (..., K) of single-scan detection probabilities in [0, 1],
-            independent from scan to scan; K >= 0 (K = 0 gives 0).
+            independent from scan to scan; K >= 0 (K = 0 gives 0). A subnormal Pd (below
+            2.2e-308) counts as 0 in a compiled program: XLA on CPU flushes it to zero.
 
     Returns:
         Array (...): the probability of at least one detection in the K scans. Error: of order

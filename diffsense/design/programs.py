@@ -225,19 +225,13 @@ class Programs:
         """``program`` over the rows of ``V`` (and ``T``) in calls of :data:`EVAL_ROWS` rows, all
         dispatched before any result is copied to the host; results concatenated (NumPy)."""
         shared = stack([base] * EVAL_ROWS) if per_row_inputs is None else None
-        parts, counts = [], []
-        for rows, padded in _padded(V.shape[0], EVAL_ROWS):
+        parts = []
+        for _, padded in _padded(V.shape[0], EVAL_ROWS):
             th = shared if per_row_inputs is None else rows_of(per_row_inputs, padded)
-            out = program(V[padded], th) if T is None else program(V[padded], T[padded], th)
-            parts.append(out)
-            counts.append(rows.size)
-        if program.packed:  # every output leads with the row axis; padding rows come last
-            joined = program.unpack_calls(np.stack(jax.device_get(parts)))
-            return jax.tree_util.tree_map(lambda a: a[:V.shape[0]], joined)
-        parts = [program.unpack(p) for p in jax.device_get(parts)]
-        if len(parts) == 1:
-            return jax.tree_util.tree_map(lambda a: np.asarray(a)[:counts[0]], parts[0])
-        return jax.tree_util.tree_map(lambda *a: np.concatenate([x[:n] for x, n in zip(a, counts)], axis=0), *parts)
+            parts.append(program(V[padded], th) if T is None else program(V[padded], T[padded], th))
+        # the programs here are packed and every output leads with the row axis; padding rows come last
+        joined = program.unpack_calls(np.stack(jax.device_get(parts)))
+        return jax.tree_util.tree_map(lambda a: a[:V.shape[0]], joined)
 
     def search_rows(self, V, per_row_inputs):
         """Per row of ``V`` and per interval requirement, the search's ``(values (w,), points

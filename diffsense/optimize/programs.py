@@ -161,7 +161,7 @@ class Program:
     def __init__(self, name: str, fn: Callable, example: tuple, structure: str, preset: str = "optimized",
                  pool: Optional[concurrent.futures.Executor] = None, packed: bool = False):
         self.name = name
-        #: the compiled program returns its outputs packed into one float64 vector (:meth:`unpack`)
+        #: the compiled program returns its outputs packed into one float64 vector (:meth:`unpack_calls`)
         self.packed = packed
         self._out = None
         self.fn = fn
@@ -327,25 +327,11 @@ class Program:
     def __call__(self, *args):
         return self.compiled()(*args)
 
-    def unpack(self, flat):
-        """The outputs (NumPy pytree) from a packed program's result ``flat`` on the host: one
-        transfer per call instead of one per output array (a design's evaluation has hundreds)."""
-        if not self.packed:
-            return flat
-        self.compiled()
-        tree, leaves = self._out
-        flat = np.asarray(flat)
-        out, start = [], 0
-        for shape, dtype in leaves:
-            size = int(np.prod(shape, dtype=np.int64))
-            out.append(flat[start:start + size].reshape(shape).astype(dtype, copy=False))
-            start += size
-        return jax.tree_util.tree_unflatten(tree, out)
-
     def unpack_calls(self, flats):
         """The outputs (NumPy pytree) of several calls of a packed program whose outputs all lead
         with the same row axis, from their results ``flats`` (k, length) on the host, joined
-        along that axis (call after call): one slice per output for all the calls together.
+        along that axis (call after call): one transfer per call instead of one per output array
+        (a design's evaluation has hundreds), and one slice per output for all the calls.
 
         >>> p = Program("demo", lambda v: {"a": v * 2.0, "b": v[:, :1] > 0.0}, (np.zeros((2, 3)),), "demo",
         ...             packed=True)
@@ -370,7 +356,7 @@ class Program:
 
 def _packing(call):
     """``call`` with its outputs raveled and concatenated into one float64 vector (booleans and
-    integers are exact in float64; :meth:`Program.unpack` restores the arrays). Float64 leaves
+    integers are exact in float64; :meth:`Program.unpack_calls` restores the arrays). Float64 leaves
     enter as they are (lax operations, no promotion): a program traced here may have weakly
     typed outputs where the same program loaded from disk has not, and a conversion emitted for
     one and not the other would make the two compilations differ (a persistent-cache miss)."""

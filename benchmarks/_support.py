@@ -33,7 +33,7 @@ def require(script: str, *modules: str) -> None:
     missing = [m for m in modules if importlib.util.find_spec(m) is None]
     if missing:
         print(f"{script}: {MISSING_EXTRAS_MESSAGE} {missing}; install the benchmark extras with "
-              f"pip install -e '.[bench]' (scipy, mpmath, sdr, pymoo)", file=sys.stderr)
+              "pip install -e '.[bench]'", file=sys.stderr)
         sys.exit(MISSING_EXTRAS_EXIT)
 
 

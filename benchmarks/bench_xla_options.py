@@ -1,11 +1,11 @@
 """XLA:CPU options against each design program's compile time and run time.
 
 Each program of a shipped spec (:mod:`diffsense.design.programs`: ``lanes``, ``check``,
-``search``, ``dense``) is traced once (``jax.export``) and compiled with each option set
-below, without any cache; its run time is the median of 5 calls after a first one: the lane
-program on 8 lanes of the optimiser's first step (the first 8 (start, combination) pairs, slots
-from a search at their starts), the others on 8 rows (``dense``: one design) at the spec's
-initial design.
+``evaluation``, ``search``, ``dense``) is traced once (``jax.export``) and compiled with each
+option set below, without any cache; its run time is the median of 5 calls after a first one:
+the lane program on 8 lanes of the optimiser's first step (the first 8 (start, combination)
+pairs, slots from a search at their starts), the others on 8 rows (``dense``: one design) at
+the spec's initial design (``evaluation``: each row's tangent along one variable).
 
 Option sets (``compiler_options`` of ``jax.jit``):
 
@@ -21,7 +21,8 @@ Option sets (``compiler_options`` of ``jax.jit``):
 with every set R times, the sets interleaved within each round (the machine's speed drifts, so a
 comparison is made side by side).
 
-Run: python benchmarks/bench_xla_options.py [--quick] [--spec designs/ore_pass.toml] [--programs lanes,check,search,dense]
+Run: python benchmarks/bench_xla_options.py [--quick] [--spec designs/ore_pass.toml]
+     [--programs lanes,check,evaluation,search,dense]
      [--sets "optimized,no expensive passes"] [--rounds 3]
 ``--quick``: the lidar spec's ``check`` program with the optimized and default sets only.
 """
@@ -74,6 +75,8 @@ def program_cases(model: DesignModel, names):
     rows = stack([model.inputs()] * 8)
     if "check" in names:
         cases["check"] = (programs.check(), (V, rows))
+    if "evaluation" in names:
+        cases["evaluation"] = (programs.evaluation(), (V, np.eye(V.shape[1])[np.arange(8) % V.shape[1]], rows))
     if model.intervals.indices and "search" in names:
         cases["search"] = (programs.search(), (V, rows))
     if model.intervals.indices and "dense" in names:

@@ -49,6 +49,13 @@ def _reason(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {text[0] if text else ''}".strip()
 
 
+def _span_text(sweep: dict) -> str:
+    """"every range from A to B m" when the sweep's main margin requirement holds over an
+    interval of ranges (``required_range_m``), else ""."""
+    span = sweep.get("required_range_m")
+    return "" if span is None else f"every range from {span[0]:g} to {span[1]:g} m"
+
+
 def _objective_unit(model: DesignModel) -> str:
     terms = model.spec.objective.terms
     if len(terms) == 1 and terms[0][0] != "cost":
@@ -325,8 +332,10 @@ def _figures(drawer: Drawer, model: DesignModel, inputs, batch, report: dict, ja
         if sweep is not None:
             if "snr_db" in sweep["outputs"]:
                 attempt(f"snr_vs_range_{case}", f"SNR versus range{tag}",
-                        f"SNR{tag} against range with every other input at its design value; dotted: the range the "
-                        "requirements are stated at; the marker shows where the main margin requirement is just met.",
+                        f"SNR{tag} against range with every other input at its design value; "
+                        + (f"shaded: the ranges the main margin requirement must hold at ({where})"
+                           if (where := _span_text(sweep)) else "dotted: the range the requirements are stated at")
+                        + "; the marker shows where the main margin requirement is just met.",
                         lambda: (figures.snr_vs_range, (sweep,), dict(title=f"{spec.title}: SNR versus range{tag}")),
                         f"range:{case}")
             else:
@@ -336,7 +345,8 @@ def _figures(drawer: Drawer, model: DesignModel, inputs, batch, report: dict, ja
                         f"Probability of detection{tag} against range: the chain's pd output (its detector and "
                         "target statistics); where the main margin requirement states its own condition (a faded "
                         "target), solid in that condition and dashed at the mean target strength; the marker shows "
-                        "where that requirement is just met, the same range as in the SNR figure.",
+                        "where that requirement is just met, the same range as in the SNR figure"
+                        + (f"; shaded: the ranges it must hold at ({where})." if (where := _span_text(sweep)) else "."),
                         lambda: (figures.pd_vs_range, (sweep,), dict(required_pd=req_pd, pfa=pfa,
                                                                      title=f"{spec.title}: Pd versus range{tag}")),
                         f"range:{case}")

@@ -109,6 +109,20 @@ def _mark(ax, rc, yc, unit, label="requirement just met"):
             label=f"{label} at {rc:.4g} {unit}")
 
 
+def _required_range(ax, data: dict, div: float, unit: str) -> None:
+    """Where the main margin requirement holds: the interval of ranges it must hold over,
+    shaded (``required_range_m`` of :func:`~diffsense.report.sweeps.range_sweep`), or else the
+    case's range, a dotted line."""
+    span = data.get("required_range_m")
+    if span is not None:
+        lo, hi = span[0] / div, span[1] / div
+        ax.axvspan(lo, hi, color="#9e9e9e", alpha=0.18, linewidth=0,
+                   label=f"required at every range from {lo:g} to {hi:g} {unit}")
+        return
+    r0 = data["design_range_m"] / div
+    ax.axvline(r0, color="black", linestyle=":", linewidth=1.2, label=f"requirement range {r0:g} {unit}")
+
+
 def _at(r, curve, rc) -> float:
     """``curve`` (on the grid ``r``) interpolated at ``rc``."""
     c = np.asarray(curve, dtype=float)
@@ -117,8 +131,9 @@ def _at(r, curve, rc) -> float:
 
 
 def snr_vs_range(path, data: dict, *, title: str) -> Path:
-    """SNR against range with the required SNR, the design range and the range where the main
-    margin requirement is just met (``met_to_m`` of the sweep).
+    """SNR against range with the required SNR, where the main margin requirement applies (its
+    range, or the interval of ranges it holds over: :func:`_required_range`) and the range where
+    it is just met (``met_to_m`` of the sweep).
 
     When the requirement states its own condition (``condition`` of
     :func:`~diffsense.report.sweeps.range_sweep`, e.g. the target in its deepest fade), the SNR
@@ -150,8 +165,7 @@ def snr_vs_range(path, data: dict, *, title: str) -> Path:
         ax.plot(r, thr, color="#ef6c00", linestyle="-.", linewidth=1.2,
                 label=f"SNR needed by '{data['margin_requirement']['name']}'")
         shown.append(np.asarray(thr))
-    r0 = data["design_range_m"] / div
-    ax.axvline(r0, color="black", linestyle=":", linewidth=1.2, label=f"requirement range {r0:g} {unit}")
+    _required_range(ax, data, div, unit)
     if data.get("met_to_m") is not None:
         rc = data["met_to_m"] / div
         _mark(ax, rc, _at(r, marked, rc), unit)
@@ -173,8 +187,9 @@ def _same(a, b, tol: float) -> bool:
 
 
 def pd_vs_range(path, data: dict, *, required_pd: Optional[float], pfa: Optional[float], title: str) -> Path:
-    """Pd against range with the required Pd, the design range and the range where the main
-    margin requirement is just met (``met_to_m``, the range the SNR figure marks).
+    """Pd against range with the required Pd, where the main margin requirement applies
+    (:func:`_required_range`) and the range where it is just met (``met_to_m``, the range the
+    SNR figure marks).
 
     When the requirement states its own condition (see :func:`snr_vs_range`) the Pd in that
     condition is the solid curve, reaching the required Pd at the marked range, and the
@@ -195,8 +210,7 @@ def pd_vs_range(path, data: dict, *, required_pd: Optional[float], pfa: Optional
     else:
         ax.plot(r, pd, color="#1565c0", linewidth=1.8, label=f"Pd at range (chain){at}")
         marked = pd
-    r0 = data["design_range_m"] / div
-    ax.axvline(r0, color="black", linestyle=":", linewidth=1.2, label=f"requirement range {r0:g} {unit}")
+    _required_range(ax, data, div, unit)
     if required_pd is not None:
         ax.axhline(required_pd, color="#ef6c00", linestyle="--", linewidth=1.2, label=f"required Pd = {required_pd:g}")
     if data.get("met_to_m") is not None:

@@ -67,14 +67,17 @@ def sweep(batch, inputs: List[Input], k: int, grid) -> tuple:
 def range_sweep(batch, model: DesignModel, inputs: List[Input], case: str, n: int = 481) -> dict:
     """SNR, required SNR, Pd and the main margin of ``case`` against range.
 
-    The range grid runs linearly from R/40 to 2 R around the case's range R, or further when
-    the case still detects with Pd ≥ 0.5 at 2 R: then to 1.25 times the range where Pd first
-    falls below 0.5 on a geometric pre-sweep from 2 R to 64 R (same batch shape, so no new
-    compilation), so that the curves show where detection is lost. Clipped to the parameter's
+    The range grid runs linearly from R/40 to 2 R around the case's range R (stretched to
+    cover the interval of ranges the main margin requirement holds over, to 1.25 times its far
+    end), or further when the case still detects with Pd ≥ 0.5 at that far end E: then to 1.25
+    times the range where Pd first falls below 0.5 on a geometric pre-sweep from E to 32 E (same
+    batch shape, so no new compilation), so that the curves show where detection is lost. Clipped to the parameter's
     domain. ``threshold_db`` is the SNR at which the main margin requirement is exactly met:
     snr_db − margin + limit at each range; ``met_to_m`` the range where that requirement is
     last just met (:func:`last_crossing` of its margin), the one crossing both range figures
-    mark.
+    mark. When that requirement holds over an interval of ranges (``over.range_m``),
+    ``required_range_m`` is that interval (m): the figures shade it instead of marking the
+    case's fixed range, which the requirement does not read.
 
     When the requirement states detection in another condition than the chain's ``snr_db``
     against its ``required_snr_db`` (a target in its deepest fade, ``faded_snr_margin_db``;
@@ -88,9 +91,13 @@ def range_sweep(batch, model: DesignModel, inputs: List[Input], case: str, n: in
     r0 = inputs[k].value
     lo = max(r0 / 40.0, inputs[k].lo or 0.0)
     r_max = inputs[k].hi or np.inf
-    hi = min(2.0 * r0, r_max)
+    m = main_margin(model, case)
+    span = [] if m is None else [(iv.lower, iv.upper) for iv in model.requirements[m].over
+                                 if iv.parameter == "range_m"]
+    hi = min(max([2.0 * r0] + [1.25 * b for _, b in span]), r_max)
+    lo = min([lo] + [a for a, _ in span])
     if hi < r_max:
-        far = np.geomspace(hi, min(64.0 * r0, r_max), n)
+        far = np.geomspace(hi, min(32.0 * hi, r_max), n)
         pd_far = sweep(batch, inputs, k, far)[0][case].values.get("pd")
         if pd_far is not None and float(pd_far[0]) >= 0.5:
             lost = np.flatnonzero(np.isfinite(pd_far) & (np.asarray(pd_far) < 0.5))
@@ -102,11 +109,12 @@ def range_sweep(batch, model: DesignModel, inputs: List[Input], case: str, n: in
     for name in ("snr_db", "required_snr_db", "pd"):
         if name in ev.values:
             out["outputs"][name] = np.asarray(ev.values[name])
-    m = main_margin(model, case)
     if m is not None:
         req = model.requirements[m]
         margin = np.asarray(ev.values[req.output])
         out["margin_requirement"] = {"name": req.name, "output": req.output, "limit": req.limit}
+        if span:
+            out["required_range_m"] = span[0]
         out["outputs"][req.output] = margin
         out["met_to_m"] = last_crossing(grid, (margin - req.limit) * (1.0 if req.sense == "at_least" else -1.0))
         if "snr_db" in ev.values:

@@ -276,3 +276,49 @@ def test_ore_pass_snr_and_pd_figures_draw_the_faded_target_and_mark_one_range(tm
     monkeypatch.undo()
     for fig in saved.values():
         style.pyplot().close(fig)
+
+
+def test_range_figures_shade_the_interval_a_margin_requirement_holds_over(tmp_path, monkeypatch):
+    """The corner radar's pedestrian must be detected at every range from 1 to 80 m (spec file);
+    its fixed range_m (100 m) is read by no requirement: the SNR and Pd figures shade 1-80 m and
+    draw no line at 100 m, and the range grid covers the interval."""
+    import tomllib
+
+    from matplotlib.patches import Polygon, Rectangle
+
+    from diffsense.design.model import DesignModel
+    from diffsense.design.spec import load_spec
+    from diffsense.report import figures
+    from diffsense.report.batch import BatchEvaluator
+    from diffsense.report.files import OutputFolder
+    from diffsense.report.inputs import design_inputs
+    from diffsense.report.sweeps import range_sweep
+
+    path = REPO / "designs" / "automotive_corner_radar.toml"
+    raw = tomllib.loads(path.read_text())
+    (req,) = [r for r in raw["requirements"] if r["output"] == "pedestrian.detection_margin_db"]
+    assert req["over"]["range_m"] == ["1 m", "80 m"] and raw["fixed"]["range_m"] == "100 m"
+    model = DesignModel(load_spec(path))
+    inputs = design_inputs(model, model.initial, 0)
+    sweep = range_sweep(BatchEvaluator(model, model.initial, 0), model, inputs, "pedestrian")
+    assert sweep["required_range_m"] == (1.0, 80.0)
+    assert sweep["range_m"][0] <= 1.0 and sweep["range_m"][-1] >= 100.0
+    saved = _figures_saved(monkeypatch)
+    folder = OutputFolder(tmp_path)
+    figures.snr_vs_range(folder.file("snr.png"), sweep, title="SNR")
+    figures.pd_vs_range(folder.file("pd.png"), sweep, required_pd=0.9, pfa=1e-6, title="Pd")
+    for name in ("snr.png", "pd.png"):
+        ax = saved[name].axes[0]
+        spans = [p for p in ax.patches if isinstance(p, (Polygon, Rectangle))]
+        assert len(spans) == 1
+        xs = spans[0].get_path().transformed(spans[0].get_patch_transform()).vertices[:, 0] \
+            if isinstance(spans[0], Rectangle) else spans[0].get_xy()[:, 0]
+        assert (float(np.min(xs)), float(np.max(xs))) == pytest.approx((1.0, 80.0), rel=1e-12)
+        vertical = [line for line in ax.lines if len(set(np.atleast_1d(line.get_xdata()).tolist())) == 1
+                    and len(line.get_xdata()) == 2]
+        assert not vertical  # no dotted line at the fixed range
+        labels = [t.get_text() for t in ax.get_legend().get_texts()]
+        assert "required at every range from 1 to 80 m" in labels
+    monkeypatch.undo()
+    for fig in saved.values():
+        style.pyplot().close(fig)

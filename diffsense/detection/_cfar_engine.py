@@ -1,4 +1,5 @@
-"""Exact single-pulse CFAR detection for a noise estimate of known law (engine of OS, GO, SO).
+"""Exact single-pulse CFAR detection for a noise estimate of known law (engine of OS, GO, SO;
+its Swerling 0 rule also serves the single-pulse CA-CFAR, :func:`steady_target_pd`).
 
 Model. One square-law sample per cell, noise of unit mean, so that under noise alone every cell
 is exponential with mean 1. The cell under test ``Y`` is compared with ``T X``: ``X`` is the
@@ -315,6 +316,14 @@ def _pd_steady(law, log_snr, log_t):
     quadrature = _pd_trapezoid(law, jnp.where(big, _LOG_SNR_CONCENTRATED, log_snr), log_t)
     concentrated = jnp.exp(law.log_cdf(jax.nn.softplus(log_snr) - log_t))
     return jnp.where(big, concentrated, quadrature)
+
+
+def steady_target_pd(law, log_snr, log_t):
+    """Swerling 0, one pulse: ``Pd = E_Y[F(Y/T)]`` for a noise estimate ``X`` of law ``law``
+    (needs only ``law.log_cdf`` and ``law.cdf_power``), SNR ``S = exp(log_snr)`` and multiplier
+    ``T = exp(log_t)``, by the rule of the module docstring; at most 1. Shared with the
+    cell-averaging CFAR of :mod:`diffsense.detection.cfar`, whose estimate is Gamma(M, 1)."""
+    return jnp.minimum(_pd_steady(law, log_snr, log_t), 1.0)
 
 
 def _pd_trapezoid(law, log_snr, log_t):

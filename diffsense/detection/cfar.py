@@ -17,7 +17,11 @@ Detection.
 - Swerling 2 (independent exponential power from pulse to pulse), any N: ``Y = (1+S) Y0``
   with ``Y0 ~ Gamma(N, 1)``, so ``Pd = I_{1/(1+alpha/(1+S))}(M N, N)`` (exact).
 - Swerling 1 with N = 1 coincides with Swerling 2: ``Pd = (1 + alpha/(1+S))^(-M)`` (exact).
-- Otherwise (Swerling 0, 3, 4; Swerling 1 with N > 1)::
+- Swerling 3 and 4 with N = 1 (they coincide): the echo power is chi-square with 4 degrees of
+  freedom, ``P(Y > t) = (1 + b0 t) exp(-t/(1+S/2))``, ``b0 = (S/2)/(1+S/2)^2``, and the
+  moments of ``Z ~ Gamma(M, 1)`` give ``Pd = (1+c)^(-M) (1 + b0 alpha M/(1+c))``,
+  ``c = alpha/(1+S/2)`` (exact).
+- Otherwise (Swerling 0; Swerling 1, 3, 4 with N > 1)::
 
       Pd = E_Z[ Pd_fixed(T = alpha Z) ],  Z ~ Gamma(M N, 1),
 
@@ -29,8 +33,27 @@ Detection.
   multipliers (few reference cells) are handled. Applied to the Swerling 1/2 laws, whose
   expectations are known in closed form, the error measured in ``tests/test_cfar.py`` is below
   1e-12 absolute for M >= 3 (N = 1-100, Pfa 1e-4-1e-12, S = -5-40 dB) and for M = 1-2 with
-  N <= 30; it reaches 4e-10 (M = 2) and 4e-5 (M = 1) at N = 100. Against an mpmath mixture
-  series for Swerling 0, 1 (N > 1), 3, 4 the error is below 1e-9.
+  N <= 30; it reaches 4e-10 (M = 2) and 4e-5 (M = 1) at N = 100.
+
+  A steady target (Swerling 0) is the hard case for this rule: ``Pd_fixed(alpha z)`` falls
+  from 1 to 0 within ``~2 sqrt(N S)/alpha`` of its midpoint, a near step that the nodes of a
+  Gamma law with a small shape ``M N`` do not resolve when the multiplier is large (few cells,
+  small Pfa). With **one pulse and M <= 64** Pd is therefore computed in the Fubini form
+  ``Pd = E_Y[P(M, Y/alpha)]`` over the Rician law of the cell under test, the bell-shaped,
+  log-concave integrand of the OS/GO/SO engine's Swerling 0 rule
+  (:func:`diffsense.detection._cfar_engine.steady_target_pd`, the noise estimate's
+  distribution function ``P(M, x)`` the regularized lower incomplete gamma function); above
+  64 cells the Gauss-Laguerre nodes resolve the step and that rule is kept (the Fubini rule's
+  sharp factor ``P(M, .)`` loses it there: 7e-5 in Pd at M = 1e4). Measured against mpmath
+  series in ``tests/detection/test_cfar.py``: the one-pulse required SNR within 1e-10 dB for
+  M = 8-1000 (Pfa 1e-2-1e-12, Pd 0.1-0.999) and M = 1-2 at Pfa 1e-2; over M = 3-1e4 within
+  1.1e-8 dB (the worst: M = 4, Pfa 1e-12, Pd 0.1; 3.1e-10 dB at M = 1e4, Pd 0.999); with N > 1 pulses and
+  ``M N >= 16`` within 1e-10 dB (Pfa 1e-6-1e-12; these and the numbers below measured with
+  the same series, some of them kept as slow tests), but with fewer cells and pulses the rule
+  still misses the step: measured 1.6e-4 dB at M = 4, N = 2, 4e-4 dB at M = 2, N = 4 and
+  0.24 dB at M = 2, N = 2 (Pfa 1e-12, Pd 0.99); 1e-10 dB at M = 3, N = 2, Pfa 1e-6.
+  Swerling 1, 3, 4 with N > 1 (exponential tails, which the tilt absorbs): within 5e-9 dB
+  at M = 2-8, N = 2-4, Pfa 1e-6-1e-12.
 
 CFAR loss. ``L = S_cfar - S_fixed`` (dB): ``S_cfar`` solves ``cfar_pd(S) = Pd`` (safeguarded
 Newton iteration on ``log(-log Pd)`` in dB, derivatives implicit), ``S_fixed`` is the
@@ -59,6 +82,7 @@ Sources
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from functools import partial
 
 import jax
@@ -70,6 +94,8 @@ from diffsense.numerics.checks import check_choice, is_concrete
 from diffsense.numerics.bracketed_newton import forward_slope, newton_decreasing
 from diffsense.numerics.db import from_db10
 from diffsense.detection import core  # the known-noise detector model
+from diffsense.detection._cfar_engine import steady_target_pd  # Swerling 0, one pulse (Fubini form)
+from diffsense.detection._gamma import log_gamma_pq
 from diffsense.detection._domain import admit, guard
 from diffsense.detection._precision import as_float
 from diffsense.detection.required_snr import required_snr_db  # the known-noise requirement
@@ -90,6 +116,13 @@ _ROOT_ITERATIONS = 40
 #: is then far below 1e-11 dB)
 _SNR_STEP_DB = 1e-11
 _SNR_BRACKET_DB = (-40.0, 100.0)
+#: reference cells up to which the one-pulse Swerling 0 Pd uses the Fubini form (module docstring)
+_FUBINI_MAX_CELLS = 64.0
+#: an iterate this near an end of the bracket (dB) is not a root
+_BRACKET_END_DB = 1e-6
+#: largest Pd the required-SNR iteration sees (:func:`_h`): nearer to 1 the quadrature's miss
+#: probability 1 - Pd is rounding noise
+_PD_CAP = 1.0 - 1e-12
 
 
 # --------------------------------------------------------------------------------------
@@ -320,15 +353,91 @@ def _core_pd_given_threshold(swerling: int):
     return lambda s, t, n: core.pd_given_threshold(s, t, n, swerling)
 
 
+@jax.custom_jvp
+def _log_gamma_p(a, log_x):
+    """log P(a, x) at x = exp(log_x): the regularized lower incomplete gamma function, the
+    distribution function of Gamma(a, 1) (:func:`diffsense.detection._gamma.log_gamma_pq`, full
+    relative accuracy), differentiable in log x exactly and in a by central differences."""
+    return log_gamma_pq(a, jnp.exp(log_x))[0]
+
+
+@_log_gamma_p.defjvp
+def _log_gamma_p_jvp(primals, tangents):
+    a, log_x = primals
+    da, dlx = tangents
+    val = _log_gamma_p(a, log_x)
+    # d log P / d log x = x f(x) / P with the Gamma(a, 1) density f
+    d_lx = jnp.exp(a * log_x - jnp.exp(log_x) - gammaln(a) - val)
+    h = _FD_REL_STEP * jnp.maximum(a, 1.0)
+    d_a = (_log_gamma_p(a + h, log_x) - _log_gamma_p(a - h, log_x)) / (2.0 * h)
+    return val, d_lx * dlx + d_a * da
+
+
+@partial(jax.tree_util.register_dataclass, data_fields=["m"], meta_fields=[])
+@dataclass(frozen=True)
+class _CellSum:
+    """Law of the one-pulse CA noise estimate, the sum of M unit-mean exponential cells:
+    Gamma(M, 1), F(x) = P(M, x) ~ x^M / Gamma(M + 1) at 0 (what the Swerling 0 rule of
+    :mod:`diffsense.detection._cfar_engine` needs)."""
+
+    m: object
+
+    @property
+    def cdf_power(self):
+        return self.m
+
+    def log_cdf(self, log_x):
+        """log P(M, x); ``log_x`` may carry trailing axes (the rule's nodes) beyond M's shape."""
+        m = jnp.asarray(self.m)
+        return _log_gamma_p(jnp.reshape(m, m.shape + (1,) * (jnp.ndim(log_x) - m.ndim)), log_x)
+
+
+def _pd_steady_single(snr_linear, alpha, m):
+    """Swerling 0, one pulse: for M <= :data:`_FUBINI_MAX_CELLS`, Pd = E_Y[P(M, Y/alpha)] over
+    the Rician cell under test (the Fubini form of E_Z[Pd_fixed(alpha Z)], module docstring);
+    for more cells the Gauss-Laguerre rule over Z, whose nodes then resolve Pd_fixed(alpha Z)
+    (each form's error measured against an mpmath series in tests/detection/test_cfar.py)."""
+    few = m <= _FUBINI_MAX_CELLS
+    fubini = steady_target_pd(_CellSum(jnp.where(few, m, 1.0)), jnp.log(snr_linear), jnp.log(alpha))
+    one = jnp.ones_like(m)
+    # double where: the unused rule sees benign arguments (a Gauss-Laguerre rule at the large
+    # multipliers of few cells would walk millions of terms of core's series per node)
+    laguerre = _pd_quadrature(snr_linear, jnp.where(few, 1.0, alpha), jnp.where(few, _FUBINI_MAX_CELLS, m), one,
+                              _core_pd_given_threshold(0), _tail_rate(snr_linear, one, 0))
+    return jnp.where(few, fubini, laguerre)
+
+
+def _pd_chi4_single(snr_linear, alpha, m):
+    """Swerling 3/4, one pulse (the two coincide): the echo power is chi-square with 4 degrees
+    of freedom, P(Y > t) = (1 + b0 t) exp(-t/(1 + S/2)) with b0 = (S/2)/(1 + S/2)^2, so with
+    E[exp(-c Z)] = (1 + c)^-M and E[Z exp(-c Z)] = M (1 + c)^(-M-1) for Z ~ Gamma(M, 1)::
+
+        Pd = (1 + c)^-M (1 + b0 alpha M / (1 + c)),   c = alpha / (1 + S/2)."""
+    half = 1.0 + 0.5 * snr_linear
+    c = alpha / half
+    b0 = 0.5 * snr_linear / (half * half)
+    return jnp.exp(-m * jnp.log1p(c) + jnp.log1p(b0 * alpha * m / (1.0 + c)))
+
+
 def _pd_from_alpha(snr_linear, alpha, m, n, model):
     swerling, single_pulse = model
     if swerling == 2 or (swerling == 1 and single_pulse):
         return _pd_swerling2(snr_linear, alpha, m, n)
+    if single_pulse:  # Swerling 0, 3, 4: exact single-pulse forms
+        return _single_pulse_pd(snr_linear, alpha, m, swerling)
     kappa = _tail_rate(snr_linear, n, swerling)
     quad = _pd_quadrature(snr_linear, alpha, m, n, _core_pd_given_threshold(swerling), kappa)
-    if swerling == 1:
-        return jnp.where(n == 1.0, _pd_swerling2(snr_linear, alpha, m, n), quad)
-    return quad
+    single = (_pd_swerling2(snr_linear, alpha, m, n) if swerling == 1
+              else _single_pulse_pd(snr_linear, alpha, m, swerling))
+    return jnp.where(n == 1.0, single, quad)
+
+
+def _single_pulse_pd(snr_linear, alpha, m, swerling: int):
+    """One pulse, Swerling 0, 3 or 4: the Fubini rule of the steady target, the closed form of
+    the chi-square-4 target."""
+    if swerling == 0:
+        return _pd_steady_single(snr_linear, alpha, m)
+    return _pd_chi4_single(snr_linear, alpha, m)
 
 
 def cfar_pd(snr_db, pfa, m_cells, n=1, swerling=0):
@@ -336,9 +445,11 @@ def cfar_pd(snr_db, pfa, m_cells, n=1, swerling=0):
 
     ``Pd = P(Y > alpha Z)`` with ``alpha = cfar_multiplier(pfa, M, N)``:
     Swerling 2 (any N) and Swerling 1 (N = 1) exactly, ``Pd = I_{1/(1+alpha/(1+S))}(M N, N)``
-    (``= (1 + alpha/(1+S))^(-M)`` for N = 1); other cases ``Pd = E_Z[Pd_fixed(alpha Z)]`` by
-    64-node tilted generalized Gauss-Laguerre quadrature over ``Z ~ Gamma(M N, 1)`` (error
-    < 1e-9 absolute except M <= 2 with N ~ 100, see the module docstring).
+    (``= (1 + alpha/(1+S))^(-M)`` for N = 1); Swerling 3/4 with N = 1 in closed form; Swerling 0
+    with N = 1 and M <= 64 by the Fubini rule over the cell under test; other cases
+    ``Pd = E_Z[Pd_fixed(alpha Z)]`` by 64-node tilted generalized Gauss-Laguerre quadrature over
+    ``Z ~ Gamma(M N, 1)`` (errors as measured in the module docstring: a steady target with
+    few cells and pulses, M N < 16, and small Pfa is the weak corner).
 
     Args:
         snr_db: mean per-pulse signal-to-noise ratio in dB (-100 to 100).
@@ -373,7 +484,7 @@ def cfar_pd(snr_db, pfa, m_cells, n=1, swerling=0):
 def _cfar_pd(snr_db, pfa, m, n, model):
     alpha = jnp.exp(_log_alpha(jnp.log(pfa), m, n))
     snr = from_db10(snr_db)
-    return _pd_from_alpha(snr, alpha, m, n, model)
+    return jnp.minimum(_pd_from_alpha(snr, alpha, m, n, model), 1.0)  # the quadrature may round a few ulp above 1
 
 
 # --------------------------------------------------------------------------------------
@@ -388,9 +499,14 @@ def _model(swerling, n):
 
 
 def _h(snr_db, log_alpha, m, n, model):
-    """log(-log Pd): decreasing in snr_db, close to linear once Pd is near 1."""
+    """log(-log Pd): decreasing in snr_db, close to linear once Pd is near 1.
+
+    Pd is capped at :data:`_PD_CAP`: the quadrature's sum rounds to 1 or a few ulp above it at
+    high SNR, where log(-log Pd) would be NaN and the iteration would stall at the middle of its
+    bracket (Swerling 0: 55 dB instead of 14.5 dB at Pd 0.99, Pfa 1e-6, M 64); the flat cap
+    sends it to bisection instead."""
     pd = _pd_from_alpha(from_db10(snr_db), jnp.exp(log_alpha), m, n, model)
-    return jnp.log(-jnp.log(pd))
+    return jnp.log(-jnp.log(jnp.minimum(pd, _PD_CAP)))
 
 
 def _solve_snr_db(target, log_alpha, m, n, model):
@@ -402,7 +518,10 @@ def _solve_snr_db(target, log_alpha, m, n, model):
     x0 = jnp.full_like(target, 10.0)
     x, _, _ = newton_decreasing(forward_slope(lambda x_: _h(x_, log_alpha, m, n, model) - target), x0, lo, hi,
                                 lambda x_: _SNR_STEP_DB, _ROOT_ITERATIONS)
-    return x
+    # an iterate left at an end of the bracket is not a root (the requirement lies outside it,
+    # e.g. one reference cell at Pfa 1e-12 needs ~150 dB): NaN, never a substituted number
+    inside = (x > lo + _BRACKET_END_DB) & (x < hi - _BRACKET_END_DB)
+    return jnp.where(inside, x, jnp.nan)
 
 
 @partial(jax.custom_jvp, nondiff_argnums=(4,))
@@ -453,7 +572,10 @@ def cfar_required_snr_db(pd, pfa, m_cells, n=1, swerling=0):
         swerling: 0-4 (static int).
 
     Returns:
-        Per-pulse SNR in dB. Accuracy: that of :func:`cfar_pd` divided by its slope.
+        Per-pulse SNR in dB. Accuracy: that of :func:`cfar_pd` divided by its slope (module
+        docstring). NaN where the requirement lies outside the bracket, above 100 dB (e.g. one
+        reference cell at Pfa 1e-12 and Pd 0.999: about 150 dB), never a bracket end in its
+        place; the domain is the set of arguments whose required SNR lies in -40 ... 100 dB.
 
     >>> import math
     >>> alpha = 1e-6 ** (-1 / 16) - 1     # Swerling 1, one pulse: closed form
@@ -488,7 +610,8 @@ def cfar_loss_db(pd, pfa, m_cells, n=1, swerling=0):
         swerling: 0-4 (static int).
 
     Returns:
-        CFAR loss in dB (> 0).
+        CFAR loss in dB (> 0); NaN where :func:`cfar_required_snr_db` is (a requirement above
+        100 dB).
 
     Source: Richards, *Fundamentals of Radar Signal Processing*, 2nd ed., sec. 7.4 (CFAR
     loss); Gandhi & Kassam (1988); Brooker 9.9.1 (0.7 dB budgeted).

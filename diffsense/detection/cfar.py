@@ -392,19 +392,11 @@ class _CellSum:
         return _log_gamma_p(jnp.reshape(m, m.shape + (1,) * (jnp.ndim(log_x) - m.ndim)), log_x)
 
 
-def _pd_steady_single(snr_linear, alpha, m):
-    """Swerling 0, one pulse: for M <= :data:`_FUBINI_MAX_CELLS`, Pd = E_Y[P(M, Y/alpha)] over
-    the Rician cell under test (the Fubini form of E_Z[Pd_fixed(alpha Z)], module docstring);
-    for more cells the Gauss-Laguerre rule over Z, whose nodes then resolve Pd_fixed(alpha Z)
-    (each form's error measured against an mpmath series in tests/detection/test_cfar.py)."""
-    few = m <= _FUBINI_MAX_CELLS
-    fubini = steady_target_pd(_CellSum(jnp.where(few, m, 1.0)), jnp.log(snr_linear), jnp.log(alpha))
-    one = jnp.ones_like(m)
-    # double where: the unused rule sees benign arguments (a Gauss-Laguerre rule at the large
-    # multipliers of few cells would walk millions of terms of core's series per node)
-    laguerre = _pd_quadrature(snr_linear, jnp.where(few, 1.0, alpha), jnp.where(few, _FUBINI_MAX_CELLS, m), one,
-                              _core_pd_given_threshold(0), _tail_rate(snr_linear, one, 0))
-    return jnp.where(few, fubini, laguerre)
+def _pd_steady_fubini(snr_linear, alpha, m):
+    """Swerling 0, one pulse: Pd = E_Y[P(M, Y/alpha)] over the Rician cell under test (the
+    Fubini form of E_Z[Pd_fixed(alpha Z)], module docstring; used for M <=
+    :data:`_FUBINI_MAX_CELLS`)."""
+    return steady_target_pd(_CellSum(m), jnp.log(snr_linear), jnp.log(alpha))
 
 
 def _pd_chi4_single(snr_linear, alpha, m):
@@ -420,24 +412,28 @@ def _pd_chi4_single(snr_linear, alpha, m):
 
 
 def _pd_from_alpha(snr_linear, alpha, m, n, model):
+    """Pd by the exact form where one applies (module docstring: Swerling 2; one pulse of
+    Swerling 1, 3, 4; one pulse of Swerling 0 with M <= :data:`_FUBINI_MAX_CELLS`), elsewhere by
+    the Gauss-Laguerre rule."""
     swerling, single_pulse = model
     if swerling == 2 or (swerling == 1 and single_pulse):
         return _pd_swerling2(snr_linear, alpha, m, n)
-    if single_pulse:  # Swerling 0, 3, 4: exact single-pulse forms
-        return _single_pulse_pd(snr_linear, alpha, m, swerling)
-    kappa = _tail_rate(snr_linear, n, swerling)
-    quad = _pd_quadrature(snr_linear, alpha, m, n, _core_pd_given_threshold(swerling), kappa)
-    single = (_pd_swerling2(snr_linear, alpha, m, n) if swerling == 1
-              else _single_pulse_pd(snr_linear, alpha, m, swerling))
-    return jnp.where(n == 1.0, single, quad)
-
-
-def _single_pulse_pd(snr_linear, alpha, m, swerling: int):
-    """One pulse, Swerling 0, 3 or 4: the Fubini rule of the steady target, the closed form of
-    the chi-square-4 target."""
-    if swerling == 0:
-        return _pd_steady_single(snr_linear, alpha, m)
-    return _pd_chi4_single(snr_linear, alpha, m)
+    one = n == 1.0
+    if swerling == 1:
+        here, exact = one, _pd_swerling2(snr_linear, alpha, m, n)
+    elif swerling == 0:
+        here = one & (m <= _FUBINI_MAX_CELLS)
+        exact = _pd_steady_fubini(snr_linear, alpha, jnp.where(here, m, 1.0))
+    else:
+        here, exact = one, _pd_chi4_single(snr_linear, alpha, m)
+    if single_pulse and swerling != 0:
+        return exact
+    # double where: the rule sees benign arguments where the exact form is taken (at the large
+    # multipliers of few cells it would walk millions of terms of core's series per node)
+    alpha_q, m_q = jnp.where(here, 1.0, alpha), jnp.where(here, _FUBINI_MAX_CELLS, m)
+    quad = _pd_quadrature(snr_linear, alpha_q, m_q, n, _core_pd_given_threshold(swerling),
+                          _tail_rate(snr_linear, n, swerling))
+    return jnp.where(here, exact, quad)
 
 
 def cfar_pd(snr_db, pfa, m_cells, n=1, swerling=0):

@@ -330,11 +330,12 @@ def _figures(drawer: Drawer, model: DesignModel, inputs, batch, report: dict, ja
             for t in ("SNR versus range", "Pd versus range"):
                 skipped.append({"figure": f"{t}{tag}", "reason": _reason(exc)})
         if sweep is not None:
+            where = _span_text(sweep)
             if "snr_db" in sweep["outputs"]:
                 attempt(f"snr_vs_range_{case}", f"SNR versus range{tag}",
                         f"SNR{tag} against range with every other input at its design value; "
                         + (f"shaded: the ranges the main margin requirement must hold at ({where})"
-                           if (where := _span_text(sweep)) else "dotted: the range the requirements are stated at")
+                           if where else "dotted: the range the requirements are stated at")
                         + "; the marker shows where the main margin requirement is just met.",
                         lambda: (figures.snr_vs_range, (sweep,), dict(title=f"{spec.title}: SNR versus range{tag}")),
                         f"range:{case}")
@@ -346,7 +347,7 @@ def _figures(drawer: Drawer, model: DesignModel, inputs, batch, report: dict, ja
                         "target statistics); where the main margin requirement states its own condition (a faded "
                         "target), solid in that condition and dashed at the mean target strength; the marker shows "
                         "where that requirement is just met, the same range as in the SNR figure"
-                        + (f"; shaded: the ranges it must hold at ({where})." if (where := _span_text(sweep)) else "."),
+                        + (f"; shaded: the ranges it must hold at ({where})." if where else "."),
                         lambda: (figures.pd_vs_range, (sweep,), dict(required_pd=req_pd, pfa=pfa,
                                                                      title=f"{spec.title}: Pd versus range{tag}")),
                         f"range:{case}")

@@ -92,10 +92,12 @@ def range_sweep(batch, model: DesignModel, inputs: List[Input], case: str, n: in
     lo = max(r0 / 40.0, inputs[k].lo or 0.0)
     r_max = inputs[k].hi or np.inf
     m = main_margin(model, case)
-    span = [] if m is None else [(iv.lower, iv.upper) for iv in model.requirements[m].over
-                                 if iv.parameter == "range_m"]
-    hi = min(max([2.0 * r0] + [1.25 * b for _, b in span]), r_max)
-    lo = min([lo] + [a for a, _ in span])
+    span = None if m is None else next(((iv.lower, iv.upper) for iv in model.requirements[m].over
+                                        if iv.parameter == "range_m"), None)
+    if span is not None:
+        lo, hi = min(lo, span[0]), min(max(2.0 * r0, 1.25 * span[1]), r_max)
+    else:
+        hi = min(2.0 * r0, r_max)
     if hi < r_max:
         far = np.geomspace(hi, min(32.0 * hi, r_max), n)
         pd_far = sweep(batch, inputs, k, far)[0][case].values.get("pd")
@@ -113,8 +115,8 @@ def range_sweep(batch, model: DesignModel, inputs: List[Input], case: str, n: in
         req = model.requirements[m]
         margin = np.asarray(ev.values[req.output])
         out["margin_requirement"] = {"name": req.name, "output": req.output, "limit": req.limit}
-        if span:
-            out["required_range_m"] = span[0]
+        if span is not None:
+            out["required_range_m"] = span
         out["outputs"][req.output] = margin
         out["met_to_m"] = last_crossing(grid, (margin - req.limit) * (1.0 if req.sense == "at_least" else -1.0))
         if "snr_db" in ev.values:

@@ -20,8 +20,15 @@ CA (1 + t)^-n; OS Rohling's product prod_{i<k} (n - i)/(n - i + t); GO
 smaller of two iid Gamma(m) sums add up to both sums; ``tests/benchmarks/test_fidelity_cfar.py``
 checks both against mpmath quadrature of their definitions).
 
-MathWorks' ``cfarloss`` approximates the CA loss by Gregers-Hansen's universal curve (and other
-methods from it); that curve is not reproduced here, so the approximation has no row.
+MathWorks' ``cfarloss`` approximates the CA loss by Gregers-Hansen's universal curve, a loss of
+the CFAR ratio chi = -log10(Pfa)/n alone, and has a GO method; neither takes Pd. The curve is not
+published as a formula, so it is not reproduced; but a loss of chi alone takes one value at grid
+points of equal chi, so its worst error on the grid is at least half the spread of the exact
+losses over each such group (every Pd of a (Pfa, n) pair, and pairs such as (1e-3, 8),
+(1e-6, 16), (1e-12, 32)); a loss of (Pfa, n) alone, at least half the spread over Pd. The rows
+``universal curve (CA)`` (chi alone) and ``cfarloss GO`` ((Pfa, n) alone: how MathWorks maps the
+GO window onto the curve is not published) state those lower bounds (:func:`pd_free_error_bound`);
+they have no time, since nothing of ours runs.
 
 Times: each choice jitted over the grid, one row per cell count (the counts are static in the
 package's functions), the grid's points repeated to 512 columns per row (``quick``: 64), warm
@@ -92,6 +99,24 @@ def loss_mp(processor: str, pd, pfa, n: int) -> float:
         return float(10 * mp.log10(s / s0))
 
 
+def pd_free_error_bound(losses, cells, row, chi_only: bool) -> float:
+    """The least worst error (dB) against ``losses`` (one row per cell count of ``cells``, one
+    column per (pd, pfa) of ``row``) of any loss that does not depend on Pd: half the largest
+    spread of the losses over a group of grid points it cannot tell apart. ``chi_only``: it
+    depends on chi = -log10(Pfa)/n alone (groups: equal chi, as an exact fraction of the rounded
+    decades of Pfa and n; a Pfa not a power of ten is its own group); else on (Pfa, n)."""
+    from fractions import Fraction
+
+    groups = {}
+    for i, n in enumerate(cells):
+        for j, (_, pfa) in enumerate(row):
+            decades = -math.log10(pfa)
+            whole = abs(decades - round(decades)) < 1e-12
+            key = Fraction(round(decades), n) if chi_only and whole else (pfa, n)
+            groups.setdefault(key, []).append(float(losses[i][j]))
+    return max((max(v) - min(v)) / 2 for v in groups.values())
+
+
 def _loss_fn(processor: str, cells):
     """``f(pd, pfa)`` (one row per cell count) -> the package's loss (dB), Swerling 1."""
     import diffsense.detection as det
@@ -116,11 +141,11 @@ def cfar_loss(quick: bool) -> Family:
     cells, pds, pfas = (QUICK_CELLS, QUICK_PDS, QUICK_PFAS) if quick else (FULL_CELLS, FULL_PDS, FULL_PFAS)
     row = [(pd, pfa) for pfa in pfas for pd in pds]
     grid = tuple(jnp.asarray(np.array([[p[k] for p in row]] * len(cells), dtype=float)) for k in (0, 1))
-    rows = []
+    rows, refs = [], {}
     measured = measure_tiled([(_loss_fn(processor, cells), grid) for processor in PROCESSORS], repeats, columns,
                              quick)
     for processor, (out, seconds, ops) in zip(PROCESSORS, measured):
-        ref = np.array([[loss_mp(processor, pd, pfa, n) for pd, pfa in row] for n in cells])
+        ref = refs[processor] = np.array([[loss_mp(processor, pd, pfa, n) for pd, pfa in row] for n in cells])
         per_n = ", ".join(f"n = {n}: {worst(out[i], ref[i]):.2g}" for i, n in enumerate(cells))
         span = f"{np.min(ref):.3g}-{np.max(ref):.3g} dB"
         what = {"cell_averaging": "sum of n cells",
@@ -129,6 +154,14 @@ def cfar_loss(quick: bool) -> Family:
                 "smallest_of": "smaller of two half-window sums (n/2 cells each)"}[processor]
         rows.append(Choice(processor, seconds, ops, math.nan, worst(out, ref),
                            f"{what}; losses over the grid {span}; worst error per cell count (dB): {per_n}"))
+    for processor, name, chi_only in (("cell_averaging", "universal curve (CA)", True),
+                                      ("greatest_of", "cfarloss GO", False)):
+        bound = pd_free_error_bound(refs[processor], cells, row, chi_only)
+        of = "chi = -log10(Pfa)/n alone" if chi_only else "Pfa and n alone, not of Pd"
+        rows.append(Choice(name, math.nan, None, math.nan, math.nan,
+                           f"MathWorks cfarloss (Gregers-Hansen's curve; not published as a formula, not reproduced, "
+                           f"not timed): any loss of {of} is off by at least {bound:.2g} dB somewhere on this grid "
+                           f"(half the spread of the exact {processor} losses over points it cannot tell apart)"))
     rows.append(Choice("given", 0.0, 0, math.nan, math.nan,
                        "the spec writes the loss (parameter cfar_loss_db; book 9.9.1: 0.7 dB): no model and no cost; "
                        "its error is the user's"))
@@ -145,8 +178,8 @@ def cfar_loss(quick: bool) -> Family:
         "gets its exact loss",
         choices=rows, fast=None,
         fast_bound="none: each processor is a different detector, each exact against its own definition; switching "
-        "would change the radar, not the fidelity (error vs exact n/a for that reason); MathWorks' universal-curve "
-        "approximation of the CA loss has no row (not reproduced here)")
+        "would change the radar, not the fidelity (error vs exact n/a for that reason); MathWorks' cfarloss is "
+        "not reproduced: its rows state the least error any loss without Pd has on the grid")
 
 
 def run(quick: bool) -> list:

@@ -29,8 +29,8 @@ def family():
 
 def test_the_family_is_complete(family):
     assert family.key == "cfar" and family.default == "given" and family.fast is None
-    assert [c.name for c in family.choices] == [*fc.PROCESSORS, "given"]
-    assert all(c.seconds_per_eval > 0 and c.hlo_ops > 0 for c in family.choices if c.name != "given")
+    assert [c.name for c in family.choices] == [*fc.PROCESSORS, "universal curve (CA)", "cfarloss GO", "given"]
+    assert all(c.seconds_per_eval > 0 and c.hlo_ops > 0 for c in family.choices if c.name in fc.PROCESSORS)
 
 
 def test_every_processor_is_exact_against_the_reference(family):
@@ -71,3 +71,33 @@ def test_the_os_transform_reproduces_a_published_multiplier():
         family_pfa = fc.laplace_mp("ordered_statistic", root, 20)  # the family's rank for n = 20 is 15
     assert abs(float(root) - 6.857) < 2e-3
     assert abs(float(family_pfa) / 1e-3 - 1) < 1e-25
+
+
+def _ca_swerling1_loss_db(pd, pfa, n):
+    """Closed form (Swerling 1, CA): T(p) = p^(-1/n) - 1 solves (1 + T)^-n = p, S = T(Pfa)/T(Pd) - 1."""
+    with mp.workdps(30):
+        pd, pfa = mp.mpf(pd), mp.mpf(pfa)
+        s = (pfa ** (-mp.mpf(1) / n) - 1) / (pd ** (-mp.mpf(1) / n) - 1) - 1
+        return float(10 * mp.log10(s / (mp.log(pfa) / mp.log(pd) - 1)))
+
+
+def test_the_pd_free_bound_is_the_least_error_of_any_curve_of_chi_alone():
+    import numpy as np
+
+    cells, pds, pfas = fc.FULL_CELLS, fc.FULL_PDS, fc.FULL_PFAS
+    row = [(pd, pfa) for pfa in pfas for pd in pds]
+    losses = np.array([[_ca_swerling1_loss_db(pd, pfa, n) for pd, pfa in row] for n in cells])
+    bound = fc.pd_free_error_bound(losses, cells, row, chi_only=True)
+    # (1e-3, 8 cells) and (1e-6, 16 cells) share chi = 3/8: one value of a chi-only curve serves both
+    a, b = _ca_swerling1_loss_db(0.9, 1e-3, 8), _ca_swerling1_loss_db(0.9, 1e-6, 16)
+    assert abs(a - b) > 1e-3 and bound >= abs(a - b) / 2  # 2.005 against 2.007 dB
+    assert bound >= fc.pd_free_error_bound(losses, cells, row, chi_only=False) > 0
+    # the bound is attained (each chi group's midrange) and not beaten by other curves of chi
+    chi = np.array([[round(-np.log10(pfa)) / n for _, pfa in row] for n in cells])
+    keys = sorted(set(chi.ravel()))
+    mid = {k: (losses[chi == k].max() + losses[chi == k].min()) / 2 for k in keys}
+    assert abs(max(abs(losses[chi == k] - mid[k]).max() for k in keys) - bound) < 1e-12
+    rng = np.random.default_rng(0)
+    for _ in range(200):
+        curve = {k: mid[k] + rng.normal(0, 0.05) for k in keys}
+        assert max(abs(losses[chi == k] - curve[k]).max() for k in keys) >= bound - 1e-12

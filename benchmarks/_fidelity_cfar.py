@@ -157,10 +157,10 @@ def cfar_loss(quick: bool) -> Family:
     for processor, name, chi_only in (("cell_averaging", "universal curve (CA)", True),
                                       ("greatest_of", "cfarloss GO", False)):
         bound = pd_free_error_bound(refs[processor], cells, row, chi_only)
-        of = "chi = -log10(Pfa)/n alone" if chi_only else "Pfa and n alone, not of Pd"
+        of = "chi = -log10(Pfa)/n alone" if chi_only else "Pfa and n alone (not of Pd)"
         rows.append(Choice(name, math.nan, None, math.nan, math.nan,
-                           f"MathWorks cfarloss (Gregers-Hansen's curve; not published as a formula, not reproduced, "
-                           f"not timed): any loss of {of} is off by at least {bound:.2g} dB somewhere on this grid "
+                           f"MathWorks cfarloss (Gregers-Hansen's curve; not published as a formula, so not reproduced "
+                           f"or timed): any loss of {of} is off by at least {bound:.2g} dB somewhere on this grid "
                            f"(half the spread of the exact {processor} losses over points it cannot tell apart)"))
     rows.append(Choice("given", 0.0, 0, math.nan, math.nan,
                        "the spec writes the loss (parameter cfar_loss_db; book 9.9.1: 0.7 dB): no model and no cost; "

@@ -69,7 +69,8 @@ def table_lines(f: Family):
     lines = [f"| choice | time per evaluation | HLO ops | worst error vs {f.exact} ({f.error_unit}) | "
              f"worst error vs reference ({f.error_unit}) | Pareto-best | note |", "|---|---|---|---|---|---|---|"]
     for c in f.choices:
-        lines.append(f"| {c.name} | {_num(c.seconds_per_eval)} s | {_num(c.hlo_ops)} | {_num(c.error_vs_exact)} | "
+        timed = f"{_num(c.seconds_per_eval)} s" if math.isfinite(c.seconds_per_eval) else "not timed"
+        lines.append(f"| {c.name} | {timed} | {_num(c.hlo_ops)} | {_num(c.error_vs_exact)} | "
                      f"{_num(c.error_vs_reference)} | {'yes' if c.name in best else ''} | {c.note} |")
     return lines
 
